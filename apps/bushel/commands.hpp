@@ -1,0 +1,18 @@
+#pragma once
+// Sub-commands of the bushel command line. Each registers its options on the app and runs
+// when selected; errors surface as bushel::InputError and are reported by main().
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "bushel/units/units.hpp"
+
+namespace bushel::cli {
+
+void add_particle_command(CLI::App& app);
+void add_kernel_command(CLI::App& app);
+
+/// Parses a quantity given on the command line, naming the option in the error.
+double option_quantity(const std::string& option, const std::string& text, units::Dimension expected);
+
+}  // namespace bushel::cli

@@ -1,0 +1,33 @@
+// bushel: discrete element simulation of grain bulk density.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "bushel/core/input_error.hpp"
+#include "commands.hpp"
+
+namespace {
+constexpr const char* version = "0.1.0";
+}
+
+int main(int argc, char** argv) {
+  CLI::App app{"bushel: discrete element simulation of grain bulk density"};
+  app.set_version_flag("--version", version);
+  app.require_subcommand(1);
+  bushel::cli::add_particle_command(app);
+  bushel::cli::add_kernel_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // One line, naming what was wrong; --help lists the options.
+    fmt::print(stderr, "bushel: error: {}\n", e.what());
+    return e.get_exit_code() != 0 ? e.get_exit_code() : 2;
+  } catch (const bushel::InputError& e) {
+    fmt::print(stderr, "bushel: error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}
