@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <fmt/format.h>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -17,7 +18,7 @@ struct ParticleOptions {
   bool ellipsoid = false;
   std::string length, width, mass;
   int spheres = 5;
-  std::string density = "1373kg/m3", shear_modulus = "22.4MPa", poisson = "0.22";
+  std::string density = "1373kg/m3", shear_modulus = "22.4MPa", poisson_ratio = "0.22";
   int resolution = TemplateOptions{}.resolution;
   bool json = false, list = false, csv = false;
 };
@@ -107,10 +108,17 @@ void print_list(const Material& m, bool json, bool csv) {
 }
 
 void run_particle(const ParticleOptions& o) {
-  Material m{"particle", option_quantity("--shear-modulus", o.shear_modulus, units::dim::pressure),
-             option_quantity("--poisson", o.poisson, units::dim::dimensionless),
-             option_quantity("--density", o.density, units::dim::density)};
-  validate(m);
+  const Material m{"cli", option_quantity("--shear-modulus", o.shear_modulus, units::dim::pressure),
+                   option_quantity("--poisson-ratio", o.poisson_ratio, units::dim::dimensionless),
+                   option_quantity("--density", o.density, units::dim::density)};
+  try {
+    validate(m);
+  } catch (const InputError& e) {
+    // Material fields map one-to-one onto options: poisson_ratio -> --poisson-ratio.
+    std::string field = e.key().substr(e.key().find('.') + 1);
+    std::replace(field.begin(), field.end(), '_', '-');
+    throw InputError(e.problem()).with_key("--" + field);
+  }
   const TemplateOptions options{o.resolution};
   if (o.list) return print_list(m, o.json, o.csv);
   if (o.csv) throw InputError("--csv applies to --list only").with_key("--csv");
@@ -160,7 +168,7 @@ void add_particle_command(CLI::App& app) {
   cmd->add_option("--mass", o->mass, "Target kernel mass, e.g. 0.0346g (with --ellipsoid)");
   cmd->add_option("--density", o->density, "Solid density")->capture_default_str();
   cmd->add_option("--shear-modulus", o->shear_modulus, "Shear modulus G")->capture_default_str();
-  cmd->add_option("--poisson", o->poisson, "Poisson's ratio")->capture_default_str();
+  cmd->add_option("--poisson-ratio", o->poisson_ratio, "Poisson's ratio")->capture_default_str();
   cmd->add_option("--resolution", o->resolution, "Grid columns across the clump for the union integration")
       ->check(CLI::Range(16, 4000))
       ->capture_default_str();

@@ -172,7 +172,7 @@ double parse_number(std::string_view text) {
   return value;
 }
 
-double to_unit(double si_value, std::string_view symbol) { return si_value / unit(symbol).factor; }
+double to_unit(double value_si, std::string_view symbol) { return value_si / unit(symbol).factor; }
 
 double from_unit(double value, std::string_view symbol) { return value * unit(symbol).factor; }
 

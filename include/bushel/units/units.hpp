@@ -63,7 +63,7 @@ double parse_number(std::string_view text);
 const Unit& unit(std::string_view symbol);
 
 /// Converts an SI value to `symbol` (e.g. to_unit(0.0346e-3, "g") == 0.0346).
-double to_unit(double si_value, std::string_view symbol);
+double to_unit(double value_si, std::string_view symbol);
 
 /// Converts a value in `symbol` to SI.
 double from_unit(double value, std::string_view symbol);

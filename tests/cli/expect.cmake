@@ -1,0 +1,22 @@
+# Runs a command and checks its exit code and output:
+#   cmake -DCOMMAND="a;b;c" -DEXIT=0 -DMATCH="regex" [-DNOMATCH="regex"] -P expect.cmake
+# EXIT may be "nonzero". MATCH is searched in stdout+stderr. Errors must be one line.
+execute_process(COMMAND ${COMMAND} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+set(all "${out}${err}")
+if(EXIT STREQUAL "nonzero")
+  if(rc EQUAL 0)
+    message(FATAL_ERROR "expected a non-zero exit, got 0\n${all}")
+  endif()
+  string(STRIP "${err}" err_stripped)
+  if(err_stripped MATCHES "\n")
+    message(FATAL_ERROR "expected a one-line error, got:\n${err}")
+  endif()
+elseif(NOT rc EQUAL EXIT)
+  message(FATAL_ERROR "expected exit ${EXIT}, got ${rc}\n${all}")
+endif()
+if(DEFINED MATCH AND NOT all MATCHES "${MATCH}")
+  message(FATAL_ERROR "output does not match '${MATCH}':\n${all}")
+endif()
+if(DEFINED NOMATCH AND all MATCHES "${NOMATCH}")
+  message(FATAL_ERROR "output matches '${NOMATCH}':\n${all}")
+endif()
