@@ -14,7 +14,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libyaml-cpp-dev libcli11-dev libeigen3-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev
-  python3 python3-numpy python3-matplotlib
+  python3 python3-dev pybind11-dev python3-numpy python3-matplotlib
 )
 
 missing=()

@@ -1,6 +1,6 @@
 // bushel: discrete element simulation of grain bulk density.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "bushel/core/input_error.hpp"
 #include "commands.hpp"

@@ -1,5 +1,5 @@
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 #include <memory>
 #include <nlohmann/json.hpp>
 
@@ -27,7 +27,9 @@ struct Row {
   const ParticleTemplate& t;
   const Material& m;
   double mass() const { return t.mass(m.density); }
-  double rayleigh() const { return rayleigh_time_step(t.min_sphere_radius(), m.density, m.shear_modulus, m.poisson_ratio); }
+  double rayleigh() const {
+    return rayleigh_time_step(t.min_sphere_radius(), m.density, m.shear_modulus, m.poisson_ratio);
+  }
 };
 
 nlohmann::ordered_json to_json(const Row& r, bool with_spheres) {
@@ -67,8 +69,8 @@ void print_table(const Row& r) {
   fmt::print("    #     x [mm]     y [mm]     z [mm]     r [mm]\n");
   for (std::size_t i = 0; i < r.t.spheres.size(); ++i) {
     const auto& s = r.t.spheres[i];
-    fmt::print("  {:3d} {:10.4f} {:10.4f} {:10.4f} {:10.4f}\n", i, s.centre.x * 1e3, s.centre.y * 1e3,
-               s.centre.z * 1e3, s.radius * 1e3);
+    fmt::print("  {:3d} {:10.4f} {:10.4f} {:10.4f} {:10.4f}\n", i, s.centre.x * 1e3, s.centre.y * 1e3, s.centre.z * 1e3,
+               s.radius * 1e3);
   }
   fmt::print("volume               {:.4f} mm3 ({:.4e} m3)\n", r.t.volume * 1e9, r.t.volume);
   fmt::print("mass                 {:.5f} g\n", r.mass() * 1e3);
@@ -87,8 +89,9 @@ void print_list(const Material& m, bool json, bool csv) {
     for (const auto& name : lib.names()) all.push_back(to_json({lib.get(name), m}, false));
     fmt::print("{}\n", all.dump(2));
   } else if (csv) {
-    fmt::print("template,spheres,volume_m3,mass_kg,equivalent_diameter_m,aspect_ratio,inertia_x_kg_m2,"
-               "inertia_y_kg_m2,inertia_z_kg_m2,rayleigh_time_step_s\n");
+    fmt::print(
+        "template,spheres,volume_m3,mass_kg,equivalent_diameter_m,aspect_ratio,inertia_x_kg_m2,"
+        "inertia_y_kg_m2,inertia_z_kg_m2,rayleigh_time_step_s\n");
     for (const auto& name : lib.names()) {
       const Row r{lib.get(name), m};
       const Vec3 i = r.t.principal_inertia(m.density);
@@ -142,7 +145,8 @@ void run_particle(const ParticleOptions& o) {
       throw e.with_key("--ellipsoid");
     }
   } else {
-    if (o.spec.empty()) throw InputError("give a TEMPLATE name or CSV path, --ellipsoid or --list").with_key("TEMPLATE");
+    if (o.spec.empty())
+      throw InputError("give a TEMPLATE name or CSV path, --ellipsoid or --list").with_key("TEMPLATE");
     t = resolve_template(o.spec, options);
   }
   const Row r{t, m};

@@ -11,9 +11,9 @@ double rayleigh_time_step(double radius, double density, double shear_modulus, d
 
 double hertz_max_overlap(double effective_mass, double effective_radius, double effective_modulus,
                          double impact_speed) {
-  return std::pow(15.0 * effective_mass * impact_speed * impact_speed /
-                      (16.0 * effective_modulus * std::sqrt(effective_radius)),
-                  0.4);
+  return std::pow(
+      15.0 * effective_mass * impact_speed * impact_speed / (16.0 * effective_modulus * std::sqrt(effective_radius)),
+      0.4);
 }
 
 double hertz_contact_time(double effective_mass, double effective_radius, double effective_modulus,

@@ -1,7 +1,7 @@
 #include "bushel/core/require.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 #include <string>
 
 #include "bushel/core/input_error.hpp"

@@ -16,7 +16,7 @@ Vec3 to_vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 // Make an eigenvector's sign canonical: its largest component positive.
 Vec3 canonical_sign(Vec3 v) {
   const int k = std::abs(v.x) >= std::abs(v.y) ? (std::abs(v.x) >= std::abs(v.z) ? 0 : 2)
-                                                  : (std::abs(v.y) >= std::abs(v.z) ? 1 : 2);
+                                               : (std::abs(v.y) >= std::abs(v.z) ? 1 : 2);
   return v[k] < 0 ? -v : v;
 }
 

@@ -1,7 +1,7 @@
 #include "bushel/particles/pseudo_ellipsoid.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 #include <functional>
 #include <numbers>
 #include <vector>
@@ -84,12 +84,15 @@ ParticleTemplate make_pseudo_ellipsoid(const PseudoEllipsoidSpec& spec, std::str
   double scale = 1.0;
   if (spec.mass) {
     const double target = *spec.mass / spec.density;
-    auto volume_of = [&](double r_end, double s) { return integrate_union(build(spec, r_end, s), options.resolution).volume; };
+    auto volume_of = [&](double r_end, double s) {
+      return integrate_union(build(spec, r_end, s), options.resolution).volume;
+    };
     double lo, hi;
     std::function<double(double)> volume;
     if (has_interior(spec.spheres)) {
       // Scale from "interior spheres just touch their neighbours" to "all as wide as the centre".
-      lo = 0.05, hi = 1.0 / std::sqrt(1.0 - std::pow(1.0 - 2.0 / (spec.spheres - 1), 2) * std::pow(1.0 - end_radius / a, 2));
+      lo = 0.05,
+      hi = 1.0 / std::sqrt(1.0 - std::pow(1.0 - 2.0 / (spec.spheres - 1), 2) * std::pow(1.0 - end_radius / a, 2));
       volume = [&](double s) { return volume_of(end_radius, s); };
     } else {
       lo = 0.05 * b, hi = b;

@@ -60,7 +60,8 @@ UnionMoments integrate_union(std::span<const SphereElement> spheres, int resolut
         const double z = zlo + (iz + 0.5) * h;
         intervals.clear();
         for (const auto& s : spheres) {
-          const double d2 = s.radius * s.radius - (y - s.centre.y) * (y - s.centre.y) - (z - s.centre.z) * (z - s.centre.z);
+          const double d2 =
+              s.radius * s.radius - (y - s.centre.y) * (y - s.centre.y) - (z - s.centre.z) * (z - s.centre.z);
           if (d2 <= 0.0) continue;
           const double half = std::sqrt(d2);
           intervals.emplace_back(s.centre.x - half, s.centre.x + half);

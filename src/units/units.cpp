@@ -140,8 +140,8 @@ double parse(std::string_view text, Dimension expected) {
   const std::string what = dimension_name(expected);
   auto fail = [&](const std::string& why) -> InputError {
     const std::string accepted = accepted_units(expected);
-    return InputError("expected a " + what + (accepted.empty() ? "" : " with a unit (" + accepted + ")") +
-                      ", got '" + std::string(text) + "'" + why);
+    return InputError("expected a " + what + (accepted.empty() ? "" : " with a unit (" + accepted + ")") + ", got '" +
+                      std::string(text) + "'" + why);
   };
   std::pair<double, std::string_view> parts;
   try {

@@ -62,7 +62,7 @@ TEST(PseudoEllipsoid, WithoutMassFollowsTheEllipse) {
   EXPECT_NEAR(g.spheres[0].radius, b * b / a, 1e-12);  // tip curvature
   for (std::size_t i = 1; i + 1 < g.spheres.size(); ++i) {
     const double x = g.spheres[i].centre.x;
-    EXPECT_NEAR(g.spheres[i].radius, std::min(b, b * std::sqrt(1 - x * x / (a * a))) , 1e-12);
+    EXPECT_NEAR(g.spheres[i].radius, std::min(b, b * std::sqrt(1 - x * x / (a * a))), 1e-12);
   }
   // Spheres as tall as the profile bulge a little past it between their centres, and the
   // ends are blunter: the clump approximates the ellipsoid's volume within 3%.

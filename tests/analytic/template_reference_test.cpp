@@ -18,7 +18,8 @@ struct Reference {
 };
 
 TEST(TemplateReference, UnionVolumesWithinOnePercent) {
-  const Reference refs[] = {{"large_5s", 2.52e-8}, {"medium_5s", 1.79e-8}, {"small_5s", 1.17e-8}, {"large_asg", 2.64e-8}};
+  const Reference refs[] = {
+      {"large_5s", 2.52e-8}, {"medium_5s", 1.79e-8}, {"small_5s", 1.17e-8}, {"large_asg", 2.64e-8}};
   for (const auto& r : refs) {
     const ParticleTemplate& t = TemplateLibrary::builtin().get(r.name);
     EXPECT_NEAR(t.volume / r.volume, 1.0, 0.01) << r.name;
@@ -113,7 +114,8 @@ TEST(TemplateReference, LibraryErrors) {
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), "u.csv:3: key 'radius_mm': expected a positive radius in mm, got -2");
   }
-  const TemplateLibrary m = TemplateLibrary::parse_csv("template,sphere,x_m,y_m,z_m,radius_m\nb,s0,0,0,0,0.001\n", "m.csv");
+  const TemplateLibrary m =
+      TemplateLibrary::parse_csv("template,sphere,x_m,y_m,z_m,radius_m\nb,s0,0,0,0,0.001\n", "m.csv");
   EXPECT_DOUBLE_EQ(m.get("b").spheres[0].radius, 0.001);
   EXPECT_THROW(resolve_template("/nonexistent/dir/templates.csv"), InputError);
   EXPECT_THROW(resolve_template(std::string(BUSHEL_DATA_DIR) + "/wheat_clumps.csv"), InputError);  // several

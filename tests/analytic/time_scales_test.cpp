@@ -43,8 +43,8 @@ TEST(TimeScales, HertzContactTimeByDirectIntegration) {
 }
 
 TEST(TimeScales, ContactTimeFallsWithImpactSpeed) {
-  EXPECT_NEAR(hertz_contact_time(1e-5, 1e-3, 3e7, 4.0) / hertz_contact_time(1e-5, 1e-3, 3e7, 1.0),
-              std::pow(4.0, -0.2), 1e-12);
+  EXPECT_NEAR(hertz_contact_time(1e-5, 1e-3, 3e7, 4.0) / hertz_contact_time(1e-5, 1e-3, 3e7, 1.0), std::pow(4.0, -0.2),
+              1e-12);
 }
 
 }  // namespace

@@ -13,7 +13,8 @@ namespace bushel {
 namespace {
 
 TEST(BuiltinTemplates, MatchCommittedReference) {
-  const io::CsvTable ref = io::CsvTable::read(std::string(BUSHEL_TEST_DATA_DIR) + "/regression/data/builtin_templates.csv");
+  const io::CsvTable ref =
+      io::CsvTable::read(std::string(BUSHEL_TEST_DATA_DIR) + "/regression/data/builtin_templates.csv");
   const auto& lib = TemplateLibrary::builtin();
   ASSERT_EQ(ref.rows().size(), lib.names().size());
   const Material w = materials::wheat();

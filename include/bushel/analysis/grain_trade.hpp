@@ -29,8 +29,8 @@ double compressibility(double tapped_density, double loose_density);
 
 /// A grain's standard bushel: the mass one bushel is reckoned at in trade (USDA).
 struct StandardBushel {
-  std::string grain;       ///< e.g. "wheat"
-  double pounds = 0.0;     ///< lb per bushel
+  std::string grain;           ///< e.g. "wheat"
+  double pounds = 0.0;         ///< lb per bushel
   double test_weight() const;  ///< the same as a density [kg/m3] (pounds lb per US bushel)
   double mass() const;         ///< [kg]
 };

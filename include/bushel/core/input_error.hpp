@@ -28,8 +28,7 @@ class InputError : public std::runtime_error {
 
  private:
   InputError(std::string problem, std::string source, int line, std::string key);
-  static std::string compose(const std::string& problem, const std::string& source, int line,
-                             const std::string& key);
+  static std::string compose(const std::string& problem, const std::string& source, int line, const std::string& key);
 
   std::string problem_;
   std::string source_;

@@ -21,12 +21,12 @@
 namespace bushel {
 
 struct PseudoEllipsoidSpec {
-  double length = 0.0;                ///< end-to-end kernel length [m]
-  double width = 0.0;                 ///< kernel width, the clump's largest diameter [m]
-  int spheres = 5;                    ///< number of spheres: 1, or 3 and more
-  std::optional<double> mass;         ///< target mass [kg]; none keeps the ellipse profile
-  double density = 1373.0;            ///< solid density [kg/m3], converts the target mass to a volume
-  std::optional<double> end_radius;   ///< radius of the end spheres [m]; default b^2/a
+  double length = 0.0;               ///< end-to-end kernel length [m]
+  double width = 0.0;                ///< kernel width, the clump's largest diameter [m]
+  int spheres = 5;                   ///< number of spheres: 1, or 3 and more
+  std::optional<double> mass;        ///< target mass [kg]; none keeps the ellipse profile
+  double density = 1373.0;           ///< solid density [kg/m3], converts the target mass to a volume
+  std::optional<double> end_radius;  ///< radius of the end spheres [m]; default b^2/a
 };
 
 /// Builds the clump; throws InputError (keyed by the spec's field) for a bad spec or a
