@@ -66,12 +66,14 @@ PYBIND11_MODULE(bushel, m) {
 
   m.def(
       "pseudo_ellipsoid",
-      [](double length, double width, int spheres, std::optional<double> mass, double density) {
-        bushel::PseudoEllipsoidSpec s{length, width, spheres, mass, density, std::nullopt};
+      [](double length, double width, int spheres, std::optional<double> mass, double density,
+         std::optional<double> end_radius) {
+        bushel::PseudoEllipsoidSpec s{length, width, spheres, mass, density, end_radius};
         return describe(bushel::make_pseudo_ellipsoid(s, "ellipsoid"), density);
       },
       py::arg("length"), py::arg("width"), py::arg("spheres") = 5, py::arg("mass") = py::none(),
-      py::arg("density") = bushel::materials::wheat().density, "Pseudo-ellipsoid clump (SI inputs)");
+      py::arg("density") = bushel::materials::wheat().density, py::arg("end_radius") = py::none(),
+      "Pseudo-ellipsoid clump (SI inputs)");
 
   m.def(
       "shape_factors",

@@ -16,7 +16,7 @@ namespace {
 struct ParticleOptions {
   std::string spec;  // template name or CSV path
   bool ellipsoid = false;
-  std::string length, width, mass;
+  std::string length, width, mass, end_radius;
   int spheres = 5;
   std::string density = "1373kg/m3", shear_modulus = "22.4MPa", poisson_ratio = "0.22";
   int resolution = TemplateOptions{}.resolution;
@@ -139,6 +139,7 @@ void run_particle(const ParticleOptions& o) {
     spec.spheres = o.spheres;
     spec.density = m.density;
     if (!o.mass.empty()) spec.mass = option_quantity("--mass", o.mass, units::dim::mass);
+    if (!o.end_radius.empty()) spec.end_radius = option_quantity("--end-radius", o.end_radius, units::dim::length);
     try {
       t = make_pseudo_ellipsoid(spec, fmt::format("ellipsoid_{}s", spec.spheres), options);
     } catch (const InputError& e) {
@@ -170,6 +171,8 @@ void add_particle_command(CLI::App& app) {
   cmd->add_option("--spheres", o->spheres, "Number of spheres: 1, or 3 and more (with --ellipsoid)")
       ->capture_default_str();
   cmd->add_option("--mass", o->mass, "Target kernel mass, e.g. 0.0346g (with --ellipsoid)");
+  cmd->add_option("--end-radius", o->end_radius,
+                  "Radius of the end spheres (with --ellipsoid); default width^2/(2 length)");
   cmd->add_option("--density", o->density, "Solid density")->capture_default_str();
   cmd->add_option("--shear-modulus", o->shear_modulus, "Shear modulus G")->capture_default_str();
   cmd->add_option("--poisson-ratio", o->poisson_ratio, "Poisson's ratio")->capture_default_str();

@@ -122,7 +122,15 @@ ParticleTemplate make_template(std::string name, std::vector<SphereElement> sphe
   t.principal_moments = principal;
   t.input_centroid = moments.centroid();
   t.principal_to_input = Quat::from_matrix(axes);
-  for (auto& s : spheres) s.centre = rotate_inverse(t.principal_to_input, s.centre - t.input_centroid);
+  // Rounding leaves coordinates like -1e-19 where symmetry says 0; snap them so output and
+  // later comparisons see the exact zero (and no "-0.0000").
+  double extent = 0.0;
+  for (const auto& s : spheres) extent = std::max(extent, norm(s.centre - t.input_centroid) + s.radius);
+  auto snap = [&](double v) { return std::abs(v) < 1e-12 * extent ? 0.0 : v; };
+  for (auto& s : spheres) {
+    const Vec3 c = rotate_inverse(t.principal_to_input, s.centre - t.input_centroid);
+    s.centre = {snap(c.x), snap(c.y), snap(c.z)};
+  }
   t.spheres = std::move(spheres);
   return t;
 }

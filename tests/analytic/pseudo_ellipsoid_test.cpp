@@ -33,6 +33,19 @@ TEST(PseudoEllipsoid, ReproducesTheStudysLarge5s) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(g.principal_moments[i] / ref.principal_moments[i], 1.0, 0.05);
 }
 
+TEST(PseudoEllipsoid, WithTheStudysEndRadiusItIsTheStudysClump) {
+  // Given large_5s's end radius, the construction lands on its interior spheres: the study's
+  // hand-made clump follows the same rule (scaled ellipse profile, mass matched).
+  PseudoEllipsoidSpec s = large_kernel();
+  s.end_radius = 0.911e-3;
+  const ParticleTemplate g = make_pseudo_ellipsoid(s, "gen");
+  const ParticleTemplate& ref = TemplateLibrary::builtin().get("large_5s");
+  for (std::size_t i = 0; i < ref.spheres.size(); ++i) {
+    EXPECT_NEAR(g.spheres[i].centre.x, ref.spheres[i].centre.x, 0.001e-3) << i;
+    EXPECT_NEAR(g.spheres[i].radius, ref.spheres[i].radius, 0.001e-3) << i;
+  }
+}
+
 TEST(PseudoEllipsoid, MediumAndSmallKernelsToo) {
   struct Case {
     const char* ref;
