@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 #include <cmath>
-#include <functional>
 #include <numbers>
 #include <vector>
 
@@ -26,6 +25,10 @@ void check(const PseudoEllipsoidSpec& s) {
                                  "longest dimension",
                                  s.width * 1e3, s.length * 1e3))
         .with_key("width");
+  }
+  if (s.end_radius && s.mass && s.spheres < 5) {
+    throw InputError("with 3 or 4 spheres the end radius is what matches the mass: give end_radius or mass, not both")
+        .with_key("end_radius");
   }
   if (s.end_radius && (!(*s.end_radius > 0.0) || *s.end_radius > 0.5 * s.width)) {
     throw InputError(fmt::format("expected an end radius in (0, width/2 = {:g} mm], got {:g} mm", 0.5e3 * s.width,
@@ -56,8 +59,6 @@ std::vector<SphereElement> build(const PseudoEllipsoidSpec& s, double end_radius
   return out;
 }
 
-bool has_interior(int n) { return n >= 5; }
-
 // Finds the parameter in [lo, hi] at which volume(p) == target, volume increasing in p.
 template <class F>
 double bisect(F volume, double lo, double hi, double target) {
@@ -79,25 +80,22 @@ ParticleTemplate make_pseudo_ellipsoid(const PseudoEllipsoidSpec& spec, std::str
     return make_template(std::move(name), {{{0, 0, 0}, std::cbrt(3.0 * volume / (4.0 * std::numbers::pi))}}, options);
   }
   const double a = 0.5 * spec.length, b = 0.5 * spec.width;
-  const double tip_curvature = b * b / a;
-  double end_radius = spec.end_radius.value_or(tip_curvature);
+  double end_radius = spec.end_radius.value_or(b * b / a);  // default: the tip's radius of curvature
   double scale = 1.0;
   if (spec.mass) {
-    const double target = *spec.mass / spec.density;
-    auto volume_of = [&](double r_end, double s) {
-      return integrate_union(build(spec, r_end, s), options.resolution).volume;
+    // The mass is matched by the interior spheres' scale or, with no interior spheres
+    // (3 or 4 in all), by the end radius.
+    const bool by_scale = spec.spheres >= 5;
+    auto volume = [&](double p) {
+      const auto spheres = by_scale ? build(spec, end_radius, p) : build(spec, p, scale);
+      return integrate_union(spheres, options.resolution).volume;
     };
-    double lo, hi;
-    std::function<double(double)> volume;
-    if (has_interior(spec.spheres)) {
-      // Scale from "interior spheres just touch their neighbours" to "all as wide as the centre".
-      lo = 0.05,
-      hi = 1.0 / std::sqrt(1.0 - std::pow(1.0 - 2.0 / (spec.spheres - 1), 2) * std::pow(1.0 - end_radius / a, 2));
-      volume = [&](double s) { return volume_of(end_radius, s); };
-    } else {
-      lo = 0.05 * b, hi = b;
-      volume = [&](double r) { return volume_of(r, scale); };
-    }
+    // Interior scale: from nearly vanished to every interior sphere as wide as the centre
+    // (the outermost one, with the smallest profile, reaches b last).
+    const double x_outer = (a - end_radius) * (1.0 - 2.0 / (spec.spheres - 1));
+    const double lo = by_scale ? 0.05 : 0.05 * b;
+    const double hi = by_scale ? 1.0 / std::sqrt(1.0 - x_outer * x_outer / (a * a)) : b;
+    const double target = *spec.mass / spec.density;
     const double vlo = volume(lo), vhi = volume(hi);
     if (target < vlo || target > vhi) {
       throw InputError(fmt::format("a {}-sphere pseudo-ellipsoid of {:g} x {:g} mm can hold {:.4g} to {:.4g} g at "
@@ -106,7 +104,7 @@ ParticleTemplate make_pseudo_ellipsoid(const PseudoEllipsoidSpec& spec, std::str
                                    vhi * spec.density * 1e3, spec.density, *spec.mass * 1e3))
           .with_key("mass");
     }
-    (has_interior(spec.spheres) ? scale : end_radius) = bisect(volume, lo, hi, target);
+    (by_scale ? scale : end_radius) = bisect(volume, lo, hi, target);
   }
   auto spheres = build(spec, end_radius, scale);
   for (std::size_t i = 1; i < spheres.size(); ++i) {

@@ -115,6 +115,10 @@ TEST(PseudoEllipsoid, RejectsImpossibleSpecs) {
     EXPECT_NE(std::string(e.what()).find("can hold"), std::string::npos) << e.what();
   }
   s = large_kernel();
+  s.spheres = 3;
+  s.end_radius = 0.8e-3;  // with 3 spheres the end radius is what matches the mass
+  EXPECT_THROW(make_pseudo_ellipsoid(s, "x"), InputError);
+  s = large_kernel();
   s.width = 7e-3;
   EXPECT_THROW(make_pseudo_ellipsoid(s, "x"), InputError);
   s = large_kernel();
