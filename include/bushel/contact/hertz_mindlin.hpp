@@ -1,0 +1,61 @@
+#pragma once
+// Hertz-Mindlin (no slip) with EDEM's damping, as stateless formulas (physics.md section 2),
+// templated on the number type and shared by the sphere-sphere loop, wall contacts and tests.
+
+#include <algorithm>
+#include <cmath>
+
+#include "bushel/contact/pair_coefficients.hpp"
+#include "bushel/core/vec3.hpp"
+
+namespace bushel::hertz_mindlin {
+
+/// Normal stiffness S_n = 2 E* sqrt(R* delta_n) [N/m].
+template <class T>
+T normal_stiffness(T e_star, T r_star, T overlap) {
+  return T(2) * e_star * std::sqrt(r_star * overlap);
+}
+
+/// Tangential stiffness S_t = 8 G* sqrt(R* delta_n) [N/m].
+template <class T>
+T tangential_stiffness(T g_star, T r_star, T overlap) {
+  return T(8) * g_star * std::sqrt(r_star * overlap);
+}
+
+/// Normal force magnitude, positive = repulsive [N]:
+///   F_n = 4/3 E* sqrt(R*) delta^(3/2) + 2 sqrt(5/6) |beta| sqrt(S_n m*) v_n,
+/// v_n the approach speed (positive while closing). Net attraction is clamped to zero.
+template <class T>
+T normal_force(T e_star, T r_star, T m_star, T damping, T overlap, T approach_speed, T& s_n) {
+  s_n = normal_stiffness(e_star, r_star, overlap);
+  const T elastic = T(4) / T(3) * e_star * std::sqrt(r_star) * overlap * std::sqrt(overlap);
+  return std::max(T(0), elastic + damping * std::sqrt(s_n * m_star) * approach_speed);
+}
+
+/// Tangential force on side i [N] from the stored displacement `xi` (updated in place):
+/// `xi` is first rotated into the current tangent plane (its length kept), then advanced by
+/// the tangential relative velocity v_t times dt; F_t = -S_t xi - gamma_t v_t, and where
+/// |F_t| exceeds mu_s F_n the force is cut to the Coulomb limit and xi rescaled to match.
+template <class T>
+Vec3 tangential_force(const Vec3& normal, const Vec3& v_t, T g_star, T r_star, T m_star, T damping, T overlap,
+                      T normal_force_magnitude, T mu_s, T dt, Vec3& xi) {
+  const T len = norm(xi);
+  if (len > T(0)) {
+    xi -= dot(xi, normal) * normal;  // project into the tangent plane and keep the length
+    const T projected = norm(xi);
+    xi = projected > T(0) ? xi * (len / projected) : Vec3{};
+  }
+  xi += v_t * dt;
+  const T s_t = tangential_stiffness(g_star, r_star, overlap);
+  const T gamma_t = damping * std::sqrt(s_t * m_star);
+  Vec3 f = -s_t * xi - gamma_t * v_t;
+  const T limit = mu_s * normal_force_magnitude;
+  const T f_len = norm(f);
+  if (f_len > limit) {
+    f = f * (limit / f_len);
+    xi = s_t > T(0) ? -(f + gamma_t * v_t) / s_t : Vec3{};  // sliding: spring holds the Coulomb force
+  }
+  return f;
+}
+
+}  // namespace bushel::hertz_mindlin

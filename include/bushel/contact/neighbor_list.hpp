@@ -1,0 +1,58 @@
+#pragma once
+// Broad phase (physics.md section 5): a uniform cell grid and a Verlet half list of sphere
+// element pairs within r_i + r_j + skin, rebuilt only when some element has moved more than
+// half the skin since the last build. Elements of the same body never pair.
+//
+// Each pair owns `history_size` values of contact history (tangential displacement, rolling
+// spring). They are keyed by the pair's stable identity (the two elements' stable ids), so
+// a rebuild -- or a spatial sort that renumbers everything -- carries them over.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "bushel/core/vec3.hpp"
+
+namespace bushel {
+
+class NeighborList {
+ public:
+  /// `skin` [m] > 0; `history_size` values of history per pair.
+  NeighborList(double skin, int history_size);
+
+  /// Builds the pair list from element positions, radii, owners and stable ids; keeps the
+  /// history of pairs that were in the previous list (by stable id) and zeroes new ones.
+  void build(std::span<const Vec3> position, std::span<const double> radius, std::span<const std::uint32_t> owner,
+             std::span<const std::uint32_t> stable_id);
+
+  /// True when some element moved more than skin/2 since the last build (or never built,
+  /// or the element count changed).
+  bool needs_rebuild(std::span<const Vec3> position) const;
+
+  std::size_t pairs() const { return first_.size(); }
+  std::uint32_t first(std::size_t p) const { return first_[p]; }
+  std::uint32_t second(std::size_t p) const { return second_[p]; }
+  /// History values of pair p (history_size doubles).
+  double* history(std::size_t p) { return history_.data() + p * static_cast<std::size_t>(history_size_); }
+  int history_size() const { return history_size_; }
+  double skin() const { return skin_; }
+  std::size_t builds() const { return builds_; }
+
+  /// Pair indices touching each element, in ascending pair order (CSR): the fixed order in
+  /// which forces are gathered, whatever the thread count.
+  std::span<const std::uint32_t> pairs_of(std::size_t element) const {
+    return {incident_.data() + incident_start_[element], incident_start_[element + 1] - incident_start_[element]};
+  }
+
+ private:
+  double skin_;
+  int history_size_;
+  std::size_t builds_ = 0;
+  std::vector<Vec3> reference_;  // positions at the last build
+  std::vector<std::uint32_t> first_, second_;
+  std::vector<std::uint64_t> key_;  // stable pair identity, min id << 32 | max id
+  std::vector<double> history_;
+  std::vector<std::uint32_t> incident_start_, incident_;
+};
+
+}  // namespace bushel

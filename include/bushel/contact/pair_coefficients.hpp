@@ -1,0 +1,41 @@
+#pragma once
+// Everything a contact law needs about a pair of species, resolved once before the run so the
+// hot loop reads one small struct (physics.md section 2).
+
+#include <vector>
+
+#include "bushel/contact/contact_table.hpp"
+#include "bushel/contact/restitution_damping.hpp"
+#include "bushel/particles/material.hpp"
+
+namespace bushel {
+
+struct PairCoefficients {
+  double youngs_modulus = 0.0;    ///< E* [Pa]
+  double shear_modulus = 0.0;     ///< G* [Pa]
+  double damping = 0.0;           ///< gamma in F_n = ... + gamma sqrt(S_n m*) v_n [-] (restitution_damping.hpp)
+  double static_friction = 0.0;   ///< mu_s [-]
+  double rolling_friction = 0.0;  ///< mu_r [-]
+};
+
+/// Coefficients of a pair; the damping factor restores the requested restitution under the
+/// clamped normal law (restitution_damping.hpp).
+inline PairCoefficients make_pair_coefficients(const Material& a, const Material& b, const ContactParameters& p) {
+  return {effective_youngs_modulus(a, b), effective_shear_modulus(a, b), damping_for_restitution(p.restitution),
+          p.static_friction, p.rolling_friction};
+}
+
+/// Dense symmetric matrix of PairCoefficients over species (particle types, then walls).
+class PairCoefficientTable {
+ public:
+  PairCoefficientTable() = default;
+  PairCoefficientTable(std::size_t n, std::vector<PairCoefficients> c) : n_(n), c_(std::move(c)) {}
+  const PairCoefficients& operator()(std::size_t i, std::size_t j) const { return c_[i * n_ + j]; }
+  std::size_t size() const { return n_; }
+
+ private:
+  std::size_t n_ = 0;
+  std::vector<PairCoefficients> c_;
+};
+
+}  // namespace bushel

@@ -1,0 +1,96 @@
+#pragma once
+// The time stepper: particles, walls, contact laws and the neighbour list brought together
+// (ARCHITECTURE.md, "Time step"). One step:
+//   1. rebuild the neighbour list if needed (spatially sorting the particles every few builds)
+//   2. sphere-sphere contacts, in parallel over pairs, each pair writing its own slot
+//   3. sphere-wall contacts, in parallel over elements
+//   4. gather forces and torques onto bodies in a fixed order (thread-count independent)
+//   5. integrate (symplectic Euler or velocity Verlet; quaternion rigid rotation)
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bushel/contact/contact_model.hpp"
+#include "bushel/contact/contact_table.hpp"
+#include "bushel/contact/neighbor_list.hpp"
+#include "bushel/contact/pair_coefficients.hpp"
+#include "bushel/geometry/wall.hpp"
+#include "bushel/particles/particle_system.hpp"
+
+namespace bushel {
+
+enum class Integrator {
+  symplectic_euler,  ///< v += a dt, x += v dt (EDEM)
+  velocity_verlet,   ///< half kick, drift, forces, half kick
+};
+
+struct SimulationSettings {
+  double dt = 0.0;                ///< time step [s]
+  Vec3 gravity{0.0, 0.0, -9.81};  ///< [m/s2]
+  Integrator integrator = Integrator::symplectic_euler;
+  std::string rolling = "cdt";  ///< rolling model: cdt, epsd, none
+  double skin = 0.0;            ///< Verlet skin [m]; 0 = a quarter of the largest element diameter
+  int sort_every = 20;          ///< spatial sort every N neighbour-list builds; 0 = never
+  ContactTable contacts;        ///< restitution, friction, rolling friction per pair
+};
+
+class Simulation {
+ public:
+  explicit Simulation(SimulationSettings settings);
+
+  ParticleSystem& particles() { return particles_; }
+  const ParticleSystem& particles() const { return particles_; }
+  /// Adds a wall; returns its index.
+  std::size_t add_wall(Wall wall);
+  Wall& wall(std::size_t i) { return walls_[i]; }
+  std::size_t walls() const { return walls_.size(); }
+
+  /// Advances `n` steps.
+  void step(std::uint64_t n = 1);
+
+  double time() const { return time_; }  ///< [s]
+  std::uint64_t steps() const { return steps_; }
+  const SimulationSettings& settings() const { return settings_; }
+  /// Largest overlap over the radius of the smaller sphere in the last step [-].
+  double max_overlap_ratio() const { return max_overlap_ratio_; }
+  /// Number of sphere-sphere contacts (overlap > 0) in the last step.
+  std::size_t contacts() const { return contacts_; }
+  const NeighborList& neighbors() const { return neighbors_; }
+
+ private:
+  void prepare();
+  void rebuild();
+  void spatial_sort();
+  template <class Rolling>
+  void compute_forces(const Rolling&);
+  void compute_forces();
+  void kick(double dt);
+  void drift(double dt);
+
+  SimulationSettings settings_;
+  RollingModel rolling_;
+  ParticleSystem particles_;
+  std::vector<Wall> walls_;
+  NeighborList neighbors_;
+  PairCoefficientTable coefficients_;
+  std::size_t prepared_types_ = 0, prepared_walls_ = 0;
+  bool forces_valid_ = false;
+  bool neighbors_configured_ = false;
+
+  // per pair results of the last force computation
+  std::vector<Vec3> pair_force_, pair_torque_i_, pair_torque_j_;
+  std::vector<double> pair_cdt_i_, pair_cdt_j_;
+  // per element wall contacts: history [(s * walls + w) * h], summed force, torque, cdt
+  std::vector<double> wall_history_;
+  std::vector<Vec3> wall_force_on_sphere_, wall_torque_on_sphere_;
+  std::vector<double> wall_cdt_;
+  std::vector<Vec3> wall_reaction_;  // [(s * walls + w)] force on the wall
+
+  double time_ = 0.0;
+  std::uint64_t steps_ = 0;
+  double max_overlap_ratio_ = 0.0;
+  std::size_t contacts_ = 0;
+};
+
+}  // namespace bushel

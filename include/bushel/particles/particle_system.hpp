@@ -1,0 +1,80 @@
+#pragma once
+// The particle store: rigid bodies (spheres and clumps) and their sphere elements, in
+// structure-of-arrays form (style guide item 4). A body owns a contiguous run of sphere
+// elements; every element records its owner (item 5), so contacts work on elements and
+// forces are summed onto owners. Arrays are reordered by spatial sorting, so each body and
+// each element also carries a stable id that never changes.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "bushel/core/quat.hpp"
+#include "bushel/core/vec3.hpp"
+#include "bushel/particles/particle_type.hpp"
+
+namespace bushel {
+
+struct BodyState {
+  Vec3 position;          ///< centre of mass [m]
+  Quat orientation;       ///< principal frame -> world
+  Vec3 velocity;          ///< [m/s]
+  Vec3 angular_velocity;  ///< world frame [rad/s]
+};
+
+class ParticleSystem {
+ public:
+  /// Registers a type; returns its index (its contact species). Validates the material.
+  std::uint32_t add_type(ParticleType type);
+  /// Adds a body of `type`; returns its stable id.
+  std::uint32_t add(std::uint32_t type, const BodyState& state);
+
+  std::size_t bodies() const { return body_id.size(); }
+  std::size_t spheres() const { return sphere_id.size(); }
+  const std::vector<ParticleType>& types() const { return types_; }
+
+  /// World positions of all sphere elements from the body poses.
+  void update_sphere_positions();
+  /// Reorders bodies (and their elements, contiguously) to `order` (new index -> old index).
+  /// Returns the sphere permutation applied (new sphere index -> old sphere index).
+  std::vector<std::uint32_t> permute(std::span<const std::uint32_t> order);
+
+  /// Translational plus rotational kinetic energy [J].
+  double kinetic_energy() const;
+  /// Angular momentum about the origin [kg m2/s] (orbital plus spin).
+  Vec3 angular_momentum() const;
+  /// Rotational kinetic energy of one body [J], with its principal inertia.
+  double rotational_energy(std::size_t b) const;
+  /// Spin angular momentum of one body in the world frame [kg m2/s].
+  Vec3 spin_momentum(std::size_t b) const;
+
+  // --- bodies (index b) -------------------------------------------------------------------
+  std::vector<std::uint32_t> body_id;       ///< stable id
+  std::vector<std::uint32_t> body_type;     ///< index into types()
+  std::vector<Vec3> position;               ///< centre of mass [m]
+  std::vector<Quat> orientation;            ///< principal frame -> world
+  std::vector<Vec3> velocity;               ///< [m/s]
+  std::vector<Vec3> angular_velocity;       ///< world frame [rad/s]
+  std::vector<Vec3> force;                  ///< total force of the last step [N]
+  std::vector<Vec3> torque;                 ///< total torque about the centre of mass, world [N m]
+  std::vector<double> rolling_resistance;   ///< CDT rolling torque magnitude of the last step [N m]
+  std::vector<double> mass;                 ///< [kg]
+  std::vector<Vec3> inertia;                ///< principal moments [kg m2]
+  std::vector<std::uint32_t> first_sphere;  ///< index of the body's first element
+  std::vector<std::uint32_t> sphere_count;  ///< number of elements
+
+  // --- sphere elements (index s) ----------------------------------------------------------
+  std::vector<std::uint32_t> sphere_id;  ///< stable id
+  std::vector<std::uint32_t> owner;      ///< body index
+  std::vector<std::uint32_t> species;    ///< contact species (= particle type)
+  std::vector<Vec3> offset;              ///< centre in the body's principal frame [m]
+  std::vector<double> radius;            ///< [m]
+  std::vector<Vec3> sphere_position;     ///< world centre, refreshed each step [m]
+
+ private:
+  std::vector<ParticleType> types_;
+  std::uint32_t next_body_id_ = 0;
+  std::uint32_t next_sphere_id_ = 0;
+};
+
+}  // namespace bushel

@@ -1,0 +1,158 @@
+#include "bushel/contact/neighbor_list.hpp"
+#include "bushel/core/parallel.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace bushel {
+namespace {
+
+std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
+  return a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
+}
+
+}  // namespace
+
+NeighborList::NeighborList(double skin, int history_size) : skin_(skin), history_size_(history_size) {
+  if (!(skin > 0.0)) throw std::invalid_argument("NeighborList: skin must be positive");
+  if (history_size < 0) throw std::invalid_argument("NeighborList: negative history size");
+}
+
+bool NeighborList::needs_rebuild(std::span<const Vec3> position) const {
+  if (builds_ == 0 || position.size() != reference_.size()) return true;
+  const double limit2 = 0.25 * skin_ * skin_;
+  const auto n = static_cast<std::ptrdiff_t>(position.size());
+  int moved = 0;
+#pragma omp parallel for schedule(static) reduction(| : moved) if (n > parallel_threshold)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (norm2(position[k] - reference_[k]) > limit2) moved = 1;
+  }
+  return moved != 0;
+}
+
+void NeighborList::build(std::span<const Vec3> position, std::span<const double> radius,
+                         std::span<const std::uint32_t> owner, std::span<const std::uint32_t> stable_id) {
+  const std::size_t n = position.size();
+  // --- cell grid over the elements' bounding box ----------------------------------------
+  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  double r_max = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    lo = {std::min(lo.x, position[i].x), std::min(lo.y, position[i].y), std::min(lo.z, position[i].z)};
+    hi = {std::max(hi.x, position[i].x), std::max(hi.y, position[i].y), std::max(hi.z, position[i].z)};
+    r_max = std::max(r_max, radius[i]);
+  }
+  double cell = 2.0 * r_max + skin_;
+  auto cells_along = [&](double extent) {
+    return std::max<std::int64_t>(1, static_cast<std::int64_t>(extent / cell) + 1);
+  };
+  // A stray element far away must not blow up the grid: coarsen until it fits in 2^24 cells.
+  while (n > 0 && cells_along(hi.x - lo.x) * cells_along(hi.y - lo.y) * cells_along(hi.z - lo.z) > (1 << 24)) {
+    cell *= 2.0;
+  }
+  const std::int64_t nx = n ? cells_along(hi.x - lo.x) : 1, ny = n ? cells_along(hi.y - lo.y) : 1,
+                     nz = n ? cells_along(hi.z - lo.z) : 1;
+  auto cell_of = [&](const Vec3& p, std::int64_t& cx, std::int64_t& cy, std::int64_t& cz) {
+    cx = std::min(nx - 1, static_cast<std::int64_t>((p.x - lo.x) / cell));
+    cy = std::min(ny - 1, static_cast<std::int64_t>((p.y - lo.y) / cell));
+    cz = std::min(nz - 1, static_cast<std::int64_t>((p.z - lo.z) / cell));
+  };
+  const auto n_cells = static_cast<std::size_t>(nx * ny * nz);
+  std::vector<std::uint32_t> cell_start(n_cells + 1, 0), cell_items(n);
+  std::vector<std::uint32_t> cell_index(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::int64_t cx, cy, cz;
+    cell_of(position[i], cx, cy, cz);
+    cell_index[i] = static_cast<std::uint32_t>((cz * ny + cy) * nx + cx);
+    ++cell_start[cell_index[i] + 1];
+  }
+  std::partial_sum(cell_start.begin(), cell_start.end(), cell_start.begin());
+  {
+    std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) cell_items[fill[cell_index[i]]++] = static_cast<std::uint32_t>(i);
+  }
+
+  // --- candidate pairs, per element i (j > i), in two passes so threads never share -------
+  std::vector<std::vector<std::uint32_t>> partners(n);
+  const auto sn = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(dynamic, 256) if (sn > parallel_threshold)
+  for (std::ptrdiff_t si = 0; si < sn; ++si) {
+    const auto i = static_cast<std::size_t>(si);
+    std::int64_t cx, cy, cz;
+    cell_of(position[i], cx, cy, cz);
+    auto& out = partners[i];
+    for (std::int64_t dz = -1; dz <= 1; ++dz) {
+      const std::int64_t z = cz + dz;
+      if (z < 0 || z >= nz) continue;
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        const std::int64_t y = cy + dy;
+        if (y < 0 || y >= ny) continue;
+        for (std::int64_t dx = -1; dx <= 1; ++dx) {
+          const std::int64_t x = cx + dx;
+          if (x < 0 || x >= nx) continue;
+          const auto c = static_cast<std::size_t>((z * ny + y) * nx + x);
+          for (std::uint32_t k = cell_start[c]; k < cell_start[c + 1]; ++k) {
+            const std::uint32_t j = cell_items[k];
+            if (j <= i || owner[j] == owner[i]) continue;
+            const double reach = radius[i] + radius[j] + skin_;
+            if (norm2(position[j] - position[i]) < reach * reach) out.push_back(j);
+          }
+        }
+      }
+    }
+    std::sort(out.begin(), out.end());
+  }
+
+  // --- flatten in element order, carry history over by stable pair identity --------------
+  std::vector<std::uint32_t> first, second;
+  std::vector<std::uint64_t> key;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (const std::uint32_t j : partners[i]) {
+      first.push_back(static_cast<std::uint32_t>(i));
+      second.push_back(j);
+      key.push_back(pair_key(stable_id[i], stable_id[j]));
+    }
+  }
+  const auto h = static_cast<std::size_t>(history_size_);
+  std::vector<double> history(first.size() * h, 0.0);
+  if (h > 0 && !key_.empty()) {
+    std::vector<std::uint32_t> old_order(key_.size());
+    std::iota(old_order.begin(), old_order.end(), 0u);
+    std::sort(old_order.begin(), old_order.end(), [&](auto a, auto b) { return key_[a] < key_[b]; });
+    const auto np = static_cast<std::ptrdiff_t>(first.size());
+#pragma omp parallel for schedule(static) if (np > parallel_threshold)
+    for (std::ptrdiff_t sp = 0; sp < np; ++sp) {
+      const auto p = static_cast<std::size_t>(sp);
+      const auto it = std::lower_bound(old_order.begin(), old_order.end(), key[p],
+                                       [&](std::uint32_t o, std::uint64_t k) { return key_[o] < k; });
+      if (it != old_order.end() && key_[*it] == key[p]) {
+        std::copy_n(history_.data() + *it * h, h, history.data() + p * h);
+      }
+    }
+  }
+  first_ = std::move(first);
+  second_ = std::move(second);
+  key_ = std::move(key);
+  history_ = std::move(history);
+
+  // --- incident pairs per element (CSR, ascending pair index) ------------------------------
+  incident_start_.assign(n + 1, 0);
+  for (std::size_t p = 0; p < first_.size(); ++p) {
+    ++incident_start_[first_[p] + 1];
+    ++incident_start_[second_[p] + 1];
+  }
+  std::partial_sum(incident_start_.begin(), incident_start_.end(), incident_start_.begin());
+  incident_.resize(2 * first_.size());
+  std::vector<std::uint32_t> fill(incident_start_.begin(), incident_start_.end() - 1);
+  for (std::size_t p = 0; p < first_.size(); ++p) {
+    incident_[fill[first_[p]]++] = static_cast<std::uint32_t>(p);
+    incident_[fill[second_[p]]++] = static_cast<std::uint32_t>(p);
+  }
+
+  reference_.assign(position.begin(), position.end());
+  ++builds_;
+}
+
+}  // namespace bushel

@@ -1,0 +1,365 @@
+#include "bushel/integrate/simulation.hpp"
+#include "bushel/core/parallel.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <type_traits>
+
+#include "bushel/contact/hertz_mindlin.hpp"
+#include "bushel/core/input_error.hpp"
+#include "bushel/integrate/rigid_rotation.hpp"
+
+namespace bushel {
+namespace {
+
+Vec3 load3(const double* h) { return {h[0], h[1], h[2]}; }
+void store3(double* h, const Vec3& v) { h[0] = v.x, h[1] = v.y, h[2] = v.z; }
+double min_moment(const Vec3& i) { return std::min({i.x, i.y, i.z}); }
+
+// One Hertz-Mindlin contact with rolling model R, shared by sphere-sphere and sphere-wall
+// contacts: everything about the pair comes in, the force on side i and the rolling output
+// come out, and the history (tangential displacement, then the model's values) is updated.
+struct ContactKinematics {
+  Vec3 normal;     // unit, from i towards j
+  double overlap;  // [m]
+  Vec3 v_rel;      // velocity of i's contact point minus j's [m/s]
+  Vec3 omega_i, omega_j;
+  double arm_i, arm_j;
+  double r_star, m_star, inertia_r;
+};
+
+template <class Rolling>
+Vec3 contact_force(const ContactKinematics& k, const PairCoefficients& c, double dt, double* history,
+                   RollingOutput& rolling) {
+  const double v_n = dot(k.v_rel, k.normal);  // approach speed: i moves towards j
+  const Vec3 v_t = k.v_rel - v_n * k.normal;
+  double s_n = 0.0;
+  const double f_n = hertz_mindlin::normal_force(c.youngs_modulus, k.r_star, k.m_star, c.damping, k.overlap, v_n, s_n);
+  Vec3 xi = load3(history);
+  const Vec3 f_t = hertz_mindlin::tangential_force(k.normal, v_t, c.shear_modulus, k.r_star, k.m_star, c.damping,
+                                                   k.overlap, f_n, c.static_friction, dt, xi);
+  store3(history, xi);
+  Vec3 spring = Rolling::history_size ? load3(history + 3) : Vec3{};
+  rolling = Rolling::torque(
+      {k.normal, k.omega_i, k.omega_j, k.arm_i, k.arm_j, k.r_star, f_n, s_n, c.rolling_friction, k.inertia_r, dt},
+      spring);
+  if constexpr (Rolling::history_size > 0) store3(history + 3, spring);
+  return -f_n * k.normal + f_t;
+}
+
+}  // namespace
+
+Simulation::Simulation(SimulationSettings settings)
+    : settings_(std::move(settings)), rolling_(rolling_model(settings_.rolling)), neighbors_(1.0, 3) {
+  if (!(settings_.dt > 0.0)) throw InputError("expected a positive time step").with_key("dt");
+  if (settings_.skin < 0.0) throw InputError("expected a non-negative skin").with_key("skin");
+}
+
+std::size_t Simulation::add_wall(Wall wall) {
+  validate(wall.material);
+  walls_.push_back(std::move(wall));
+  return walls_.size() - 1;
+}
+
+void Simulation::prepare() {
+  const auto& types = particles_.types();
+  if (types.size() != prepared_types_ || walls_.size() != prepared_walls_) {
+    std::vector<Species> species;
+    std::vector<const Material*> materials;
+    for (const auto& t : types) {
+      species.push_back({t.name, t.material.name});
+      materials.push_back(&t.material);
+    }
+    for (const auto& w : walls_) {
+      species.push_back({w.name, w.material.name});
+      materials.push_back(&w.material);
+    }
+    const DenseContactTable dense = settings_.contacts.resolve(species);
+    const std::size_t n = species.size();
+    std::vector<PairCoefficients> c(n * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t j = 0; j < n; ++j)
+        c[i * n + j] = make_pair_coefficients(*materials[i], *materials[j], dense(i, j));
+    }
+    coefficients_ = PairCoefficientTable(n, std::move(c));
+    if (walls_.size() != prepared_walls_) wall_history_.clear();  // layout changes with the wall count
+    if (!neighbors_configured_ && !types.empty()) {
+      // The default skin follows the first types' largest element; the cell size of later
+      // builds follows the largest element present, so adding bigger types stays correct.
+      double skin = settings_.skin;
+      if (skin == 0.0) {
+        for (const auto& t : types) {
+          for (const auto& e : t.shape.spheres) skin = std::max(skin, 0.5 * e.radius);
+        }
+      }
+      neighbors_ = NeighborList(skin, history_size(rolling_));
+      neighbors_configured_ = true;
+    }
+    prepared_types_ = types.size();
+    prepared_walls_ = walls_.size();
+  }
+  const std::size_t h = static_cast<std::size_t>(neighbors_.history_size());
+  const std::size_t n_s = particles_.spheres(), n_w = walls_.size();
+  wall_history_.resize(n_s * n_w * h, 0.0);  // new elements append their (zero) history
+  wall_force_on_sphere_.resize(n_s);
+  wall_torque_on_sphere_.resize(n_s);
+  wall_cdt_.resize(n_s);
+  wall_reaction_.resize(2 * n_s * n_w);
+  particles_.update_sphere_positions();
+}
+
+void Simulation::spatial_sort() {
+  auto& ps = particles_;
+  const std::size_t n = ps.bodies();
+  if (n < 2) return;
+  Vec3 lo{INFINITY, INFINITY, INFINITY};
+  for (const auto& p : ps.position) lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+  double r_max = 0.0;
+  for (const double r : ps.radius) r_max = std::max(r_max, r);
+  const double cell = 2.0 * r_max + neighbors_.skin();
+  // Cells of a cube of side 1024 cells, z-major: neighbours in space become neighbours in memory.
+  std::vector<std::uint64_t> key(n);
+  for (std::size_t b = 0; b < n; ++b) {
+    const Vec3 c = (ps.position[b] - lo) / cell;
+    auto q = [](double v) { return std::min<std::uint64_t>(1023, static_cast<std::uint64_t>(std::max(0.0, v))); };
+    key[b] = (q(c.z) << 40) | (q(c.y) << 20) | q(c.x);
+  }
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(),
+            [&](auto a, auto b) { return key[a] != key[b] ? key[a] < key[b] : ps.body_id[a] < ps.body_id[b]; });
+  const std::vector<std::uint32_t> sphere_order = ps.permute(order);
+  const std::size_t block = walls_.size() * static_cast<std::size_t>(neighbors_.history_size());
+  if (block > 0) {
+    std::vector<double> h(wall_history_.size());
+    for (std::size_t s = 0; s < sphere_order.size(); ++s) {
+      std::copy_n(wall_history_.data() + sphere_order[s] * block, block, h.data() + s * block);
+    }
+    wall_history_ = std::move(h);
+  }
+}
+
+void Simulation::rebuild() {
+  if (settings_.sort_every > 0 && neighbors_.builds() % static_cast<std::size_t>(settings_.sort_every) == 0) {
+    spatial_sort();
+  }
+  const auto& ps = particles_;
+  neighbors_.build(ps.sphere_position, ps.radius, ps.owner, ps.sphere_id);
+}
+
+template <class Rolling>
+void Simulation::compute_forces(const Rolling&) {
+  auto& ps = particles_;
+  const double dt = settings_.dt;
+  const std::size_t n_pairs = neighbors_.pairs();
+  pair_force_.resize(n_pairs);
+  pair_torque_i_.resize(n_pairs);
+  pair_torque_j_.resize(n_pairs);
+  pair_cdt_i_.resize(n_pairs);
+  pair_cdt_j_.resize(n_pairs);
+  const int h = neighbors_.history_size();
+  double max_ratio = 0.0;
+  std::size_t touching = 0;
+
+  // --- sphere-sphere ------------------------------------------------------------------------
+  const auto np = static_cast<std::ptrdiff_t>(n_pairs);
+#pragma omp parallel for schedule(static) reduction(max : max_ratio) reduction(+ : touching) if (np > parallel_threshold)
+  for (std::ptrdiff_t sp = 0; sp < np; ++sp) {
+    const auto p = static_cast<std::size_t>(sp);
+    const std::uint32_t i = neighbors_.first(p), j = neighbors_.second(p);
+    double* hist = neighbors_.history(p);
+    const Vec3 d = ps.sphere_position[j] - ps.sphere_position[i];
+    const double ri = ps.radius[i], rj = ps.radius[j];
+    const double dist2 = norm2(d);
+    if (dist2 >= (ri + rj) * (ri + rj)) {
+      std::fill_n(hist, h, 0.0);  // contact over: history starts afresh next time
+      pair_force_[p] = pair_torque_i_[p] = pair_torque_j_[p] = Vec3{};
+      pair_cdt_i_[p] = pair_cdt_j_[p] = 0.0;
+      continue;
+    }
+    ++touching;
+    const double dist = std::sqrt(dist2);
+    const Vec3 n = d / dist;
+    const double overlap = ri + rj - dist;
+    max_ratio = std::max(max_ratio, overlap / std::min(ri, rj));
+    const std::uint32_t bi = ps.owner[i], bj = ps.owner[j];
+    const Vec3 c = ps.sphere_position[i] + (ri - 0.5 * overlap) * n;
+    const Vec3 arm_i = c - ps.position[bi], arm_j = c - ps.position[bj];
+    const Vec3 v_rel = ps.velocity[bi] + cross(ps.angular_velocity[bi], arm_i) - ps.velocity[bj] -
+                       cross(ps.angular_velocity[bj], arm_j);
+    const double mi = ps.mass[bi], mj = ps.mass[bj];
+    ContactKinematics k{n,
+                        overlap,
+                        v_rel,
+                        ps.angular_velocity[bi],
+                        ps.angular_velocity[bj],
+                        norm(arm_i),
+                        norm(arm_j),
+                        ri * rj / (ri + rj),
+                        mi * mj / (mi + mj),
+                        0.0};
+    if constexpr (std::is_same_v<Rolling, EpsdRolling>) {
+      const double ii = min_moment(ps.inertia[bi]) + mi * k.arm_i * k.arm_i;
+      const double ij = min_moment(ps.inertia[bj]) + mj * k.arm_j * k.arm_j;
+      k.inertia_r = ii * ij / (ii + ij);
+    }
+    RollingOutput roll;
+    const Vec3 f = contact_force<Rolling>(k, coefficients_(ps.species[i], ps.species[j]), dt, hist, roll);
+    pair_force_[p] = f;
+    pair_torque_i_[p] = cross(arm_i, f) + roll.torque_i;
+    pair_torque_j_[p] = cross(arm_j, -f) + roll.torque_j;
+    pair_cdt_i_[p] = roll.cdt_i;
+    pair_cdt_j_[p] = roll.cdt_j;
+  }
+
+  // --- sphere-wall --------------------------------------------------------------------------
+  const std::size_t n_w = walls_.size();
+  const std::size_t n_types = ps.types().size();
+  const auto ns = static_cast<std::ptrdiff_t>(ps.spheres());
+#pragma omp parallel for schedule(static) reduction(max : max_ratio) if (ns > parallel_threshold)
+  for (std::ptrdiff_t ss = 0; ss < ns; ++ss) {
+    const auto s = static_cast<std::size_t>(ss);
+    const std::uint32_t b = ps.owner[s];
+    Vec3 f_sum, t_sum;
+    double cdt = 0.0;
+    for (std::size_t w = 0; w < n_w; ++w) {
+      double* hist = wall_history_.data() + (s * n_w + w) * static_cast<std::size_t>(h);
+      Vec3* reaction = wall_reaction_.data() + 2 * (s * n_w + w);
+      const WallTouch t = touch(walls_[w], ps.sphere_position[s], ps.radius[s]);
+      if (!t.touching) {
+        std::fill_n(hist, h, 0.0);
+        reaction[0] = reaction[1] = Vec3{};
+        continue;
+      }
+      max_ratio = std::max(max_ratio, t.overlap / ps.radius[s]);
+      const Vec3 arm = t.point - ps.position[b];
+      const Vec3 v_rel = ps.velocity[b] + cross(ps.angular_velocity[b], arm);  // walls are still
+      const double arm_len = norm(arm);
+      ContactKinematics k{t.normal,   t.overlap,
+                          v_rel,      ps.angular_velocity[b],
+                          Vec3{},     arm_len,
+                          0.0,        ps.radius[s],
+                          ps.mass[b], min_moment(ps.inertia[b]) + ps.mass[b] * arm_len * arm_len};
+      RollingOutput roll;
+      const Vec3 f = contact_force<Rolling>(k, coefficients_(ps.species[s], n_types + w), dt, hist, roll);
+      f_sum += f;
+      t_sum += cross(arm, f) + roll.torque_i;
+      cdt += roll.cdt_i;
+      reaction[0] = -f;
+      reaction[1] = cross(t.point, -f) - roll.torque_i;
+    }
+    wall_force_on_sphere_[s] = f_sum;
+    wall_torque_on_sphere_[s] = t_sum;
+    wall_cdt_[s] = cdt;
+  }
+  for (std::size_t w = 0; w < n_w; ++w) {
+    Vec3 f, t;
+    for (std::size_t s = 0; s < ps.spheres(); ++s) {
+      f += wall_reaction_[2 * (s * n_w + w)];
+      t += wall_reaction_[2 * (s * n_w + w) + 1];
+    }
+    walls_[w].force = f;
+    walls_[w].torque = t;
+  }
+
+  // --- gather onto bodies, in a fixed order -------------------------------------------------
+  const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
+  const Vec3 g = settings_.gravity;
+#pragma omp parallel for schedule(static) if (nb > parallel_threshold)
+  for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
+    const auto b = static_cast<std::size_t>(sb);
+    Vec3 f = ps.mass[b] * g, t;
+    double cdt = 0.0;
+    for (std::uint32_t s = ps.first_sphere[b]; s < ps.first_sphere[b] + ps.sphere_count[b]; ++s) {
+      for (const std::uint32_t p : neighbors_.pairs_of(s)) {
+        if (neighbors_.first(p) == s) {
+          f += pair_force_[p];
+          t += pair_torque_i_[p];
+          cdt += pair_cdt_i_[p];
+        } else {
+          f -= pair_force_[p];
+          t += pair_torque_j_[p];
+          cdt += pair_cdt_j_[p];
+        }
+      }
+      f += wall_force_on_sphere_[s];
+      t += wall_torque_on_sphere_[s];
+      cdt += wall_cdt_[s];
+    }
+    ps.force[b] = f;
+    ps.torque[b] = t;
+    ps.rolling_resistance[b] = cdt;
+  }
+  max_overlap_ratio_ = max_ratio;
+  contacts_ = touching;
+  forces_valid_ = true;
+}
+
+void Simulation::compute_forces() {
+  if (neighbors_.needs_rebuild(particles_.sphere_position)) rebuild();
+  std::visit([this](const auto& model) { compute_forces(model); }, rolling_);
+}
+
+void Simulation::kick(double dt) {
+  auto& ps = particles_;
+  const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
+#pragma omp parallel for schedule(static) if (nb > parallel_threshold)
+  for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
+    const auto b = static_cast<std::size_t>(sb);
+    ps.velocity[b] += ps.force[b] * (dt / ps.mass[b]);
+    const Quat& q = ps.orientation[b];
+    const Vec3& inertia = ps.inertia[b];
+    const Vec3 omega = ps.angular_velocity[b];
+    Vec3 l = momentum_from_angular_velocity(q, inertia, omega) + ps.torque[b] * dt;
+    // Constant directional rolling torque against the body's own spin, capped so that it can
+    // stop the spin within this step but never reverse it (physics.md: the CDT sign flip).
+    const double w = norm(omega);
+    if (ps.rolling_resistance[b] > 0.0 && w > 0.0) {
+      const Vec3 u = omega / w;
+      const double along = dot(angular_velocity_from_momentum(q, inertia, l), u);
+      if (along > 0.0) l -= std::min(ps.rolling_resistance[b] * dt, along * inertia_about(q, inertia, u)) * u;
+    }
+    ps.angular_velocity[b] = angular_velocity_from_momentum(q, inertia, l);
+  }
+}
+
+void Simulation::drift(double dt) {
+  auto& ps = particles_;
+  const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
+#pragma omp parallel for schedule(static) if (nb > parallel_threshold)
+  for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
+    const auto b = static_cast<std::size_t>(sb);
+    ps.position[b] += ps.velocity[b] * dt;
+    const Vec3& inertia = ps.inertia[b];
+    if (inertia.x == inertia.y && inertia.y == inertia.z) {
+      ps.orientation[b] = advance(ps.orientation[b], ps.angular_velocity[b], dt);  // a sphere: omega is constant
+    } else {
+      const Vec3 l = momentum_from_angular_velocity(ps.orientation[b], inertia, ps.angular_velocity[b]);
+      ps.angular_velocity[b] = rotate_rigid(ps.orientation[b], inertia, l, dt);
+    }
+  }
+  ps.update_sphere_positions();
+}
+
+void Simulation::step(std::uint64_t n) {
+  prepare();
+  const double dt = settings_.dt;
+  for (std::uint64_t k = 0; k < n; ++k) {
+    if (settings_.integrator == Integrator::velocity_verlet) {
+      if (!forces_valid_) compute_forces();
+      kick(0.5 * dt);
+      drift(dt);
+      compute_forces();
+      kick(0.5 * dt);
+    } else {
+      compute_forces();
+      kick(dt);
+      drift(dt);
+    }
+    time_ += dt;
+    ++steps_;
+  }
+}
+
+}  // namespace bushel

@@ -1,0 +1,128 @@
+// The Verlet list against brute force, and contact history across rebuilds.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "bushel/contact/neighbor_list.hpp"
+
+namespace bushel {
+namespace {
+
+struct Cloud {
+  std::vector<Vec3> position;
+  std::vector<double> radius;
+  std::vector<std::uint32_t> owner, id;
+};
+
+Cloud random_cloud(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 0.02), r(0.5e-3, 1.5e-3);
+  Cloud c;
+  for (std::size_t i = 0; i < n; ++i) {
+    c.position.push_back({u(rng), u(rng), u(rng)});
+    c.radius.push_back(r(rng));
+    c.owner.push_back(static_cast<std::uint32_t>(i / 3));  // clumps of three elements
+    c.id.push_back(static_cast<std::uint32_t>(1000 + i));
+  }
+  return c;
+}
+
+std::set<std::pair<std::uint32_t, std::uint32_t>> brute_force(const Cloud& c, double skin) {
+  std::set<std::pair<std::uint32_t, std::uint32_t>> s;
+  for (std::uint32_t i = 0; i < c.position.size(); ++i) {
+    for (std::uint32_t j = i + 1; j < c.position.size(); ++j) {
+      const double reach = c.radius[i] + c.radius[j] + skin;
+      if (c.owner[i] != c.owner[j] && norm2(c.position[i] - c.position[j]) < reach * reach) s.insert({i, j});
+    }
+  }
+  return s;
+}
+
+TEST(NeighborList, MatchesBruteForce) {
+  for (const std::uint64_t seed : {1u, 2u, 3u}) {
+    const Cloud c = random_cloud(900, seed);
+    NeighborList list(0.4e-3, 3);
+    list.build(c.position, c.radius, c.owner, c.id);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+    for (std::size_t p = 0; p < list.pairs(); ++p) {
+      EXPECT_LT(list.first(p), list.second(p));
+      found.insert({list.first(p), list.second(p)});
+    }
+    EXPECT_EQ(found.size(), list.pairs()) << "duplicate pairs";
+    EXPECT_EQ(found, brute_force(c, 0.4e-3));
+  }
+}
+
+TEST(NeighborList, IncidentPairsListEveryPairTwiceInOrder) {
+  const Cloud c = random_cloud(300, 7);
+  NeighborList list(0.4e-3, 0);
+  list.build(c.position, c.radius, c.owner, c.id);
+  std::size_t total = 0;
+  for (std::size_t e = 0; e < c.position.size(); ++e) {
+    const auto pairs = list.pairs_of(e);
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      EXPECT_TRUE(list.first(pairs[k]) == e || list.second(pairs[k]) == e);
+      if (k > 0) {
+        EXPECT_LT(pairs[k - 1], pairs[k]);
+      }
+    }
+    total += pairs.size();
+  }
+  EXPECT_EQ(total, 2 * list.pairs());
+}
+
+TEST(NeighborList, HistorySurvivesRebuildAndRenumbering) {
+  Cloud c = random_cloud(600, 11);
+  NeighborList list(0.4e-3, 3);
+  list.build(c.position, c.radius, c.owner, c.id);
+  // Tag each pair's history with its stable identity.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, double> tag;
+  for (std::size_t p = 0; p < list.pairs(); ++p) {
+    const double v = 1.0 + static_cast<double>(p);
+    list.history(p)[0] = v;
+    list.history(p)[2] = -v;
+    tag[{c.id[list.first(p)], c.id[list.second(p)]}] = v;
+  }
+  // Reverse the array order (as a spatial sort would) and move everything a little.
+  Cloud r;
+  for (std::size_t i = c.position.size(); i-- > 0;) {
+    r.position.push_back(c.position[i] + Vec3{1e-5, 0, 0});
+    r.radius.push_back(c.radius[i]);
+    r.owner.push_back(c.owner[i]);
+    r.id.push_back(c.id[i]);
+  }
+  list.build(r.position, r.radius, r.owner, r.id);
+  std::size_t carried = 0;
+  for (std::size_t p = 0; p < list.pairs(); ++p) {
+    std::uint32_t a = r.id[list.first(p)], b = r.id[list.second(p)];
+    if (a > b) std::swap(a, b);
+    const auto it = tag.find({a, b});
+    if (it == tag.end()) {
+      EXPECT_EQ(list.history(p)[0], 0.0);  // a new pair starts from zero
+    } else {
+      EXPECT_EQ(list.history(p)[0], it->second);
+      EXPECT_EQ(list.history(p)[2], -it->second);
+      ++carried;
+    }
+  }
+  EXPECT_GT(carried, list.pairs() / 2);
+}
+
+TEST(NeighborList, RebuildOnlyAfterHalfTheSkin) {
+  Cloud c = random_cloud(50, 5);
+  NeighborList list(1e-3, 0);
+  EXPECT_TRUE(list.needs_rebuild(c.position));
+  list.build(c.position, c.radius, c.owner, c.id);
+  EXPECT_FALSE(list.needs_rebuild(c.position));
+  c.position[17].x += 0.49e-3;
+  EXPECT_FALSE(list.needs_rebuild(c.position));
+  c.position[17].x += 0.02e-3;
+  EXPECT_TRUE(list.needs_rebuild(c.position));
+}
+
+}  // namespace
+}  // namespace bushel
