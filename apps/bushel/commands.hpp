@@ -12,6 +12,7 @@ namespace bushel::cli {
 void add_particle_command(CLI::App& app);
 void add_kernel_command(CLI::App& app);
 void add_verify_command(CLI::App& app);
+void add_demo_command(CLI::App& app);
 
 /// Parses a quantity given on the command line, naming the option in the error.
 double option_quantity(const std::string& option, const std::string& text, units::Dimension expected);

@@ -308,9 +308,21 @@ void Simulation::kick(double dt) {
   for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
     const auto b = static_cast<std::size_t>(sb);
     ps.velocity[b] += ps.force[b] * (dt / ps.mass[b]);
-    const Quat& q = ps.orientation[b];
     const Vec3& inertia = ps.inertia[b];
     const Vec3 omega = ps.angular_velocity[b];
+    if (inertia.x == inertia.y && inertia.y == inertia.z) {
+      // Isotropic body (a sphere): L = I omega in any frame; same cap as below.
+      Vec3 w = omega + ps.torque[b] * (dt / inertia.x);
+      const double w0 = norm(omega);
+      if (ps.rolling_resistance[b] > 0.0 && w0 > 0.0) {
+        const Vec3 u = omega / w0;
+        const double along = dot(w, u);
+        if (along > 0.0) w -= std::min(ps.rolling_resistance[b] * dt / inertia.x, along) * u;
+      }
+      ps.angular_velocity[b] = w;
+      continue;
+    }
+    const Quat& q = ps.orientation[b];
     Vec3 l = momentum_from_angular_velocity(q, inertia, omega) + ps.torque[b] * dt;
     // Constant directional rolling torque against the body's own spin, capped so that it can
     // stop the spin within this step but never reverse it (physics.md: the CDT sign flip).

@@ -39,20 +39,23 @@ T normal_force(T e_star, T r_star, T m_star, T damping, T overlap, T approach_sp
 template <class T>
 Vec3 tangential_force(const Vec3& normal, const Vec3& v_t, T g_star, T r_star, T m_star, T damping, T overlap,
                       T normal_force_magnitude, T mu_s, T dt, Vec3& xi) {
-  const T len = norm(xi);
-  if (len > T(0)) {
-    xi -= dot(xi, normal) * normal;  // project into the tangent plane and keep the length
-    const T projected = norm(xi);
-    xi = projected > T(0) ? xi * (len / projected) : Vec3{};
+  const T len2 = norm2(xi);
+  if (len2 > T(0)) {
+    const T along = dot(xi, normal);
+    if (along != T(0)) {  // project into the tangent plane and keep the length
+      xi -= along * normal;
+      const T projected2 = len2 - along * along;
+      xi = projected2 > T(0) ? xi * std::sqrt(len2 / projected2) : Vec3{};
+    }
   }
   xi += v_t * dt;
   const T s_t = tangential_stiffness(g_star, r_star, overlap);
   const T gamma_t = damping * std::sqrt(s_t * m_star);
   Vec3 f = -s_t * xi - gamma_t * v_t;
   const T limit = mu_s * normal_force_magnitude;
-  const T f_len = norm(f);
-  if (f_len > limit) {
-    f = f * (limit / f_len);
+  const T f_len2 = norm2(f);
+  if (f_len2 > limit * limit) {
+    f = f * (limit / std::sqrt(f_len2));
     xi = s_t > T(0) ? -(f + gamma_t * v_t) / s_t : Vec3{};  // sliding: spring holds the Coulomb force
   }
   return f;
