@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   bushel::PourSpec spec;
   spec.count = std::stoul(argv[1]);
   spec.particle = argv[2];
+  if (const char* skin = std::getenv("BUSHEL_SKIN")) spec.skin = std::stod(skin);  // for tuning runs
   const int threads = std::stoi(argv[3]);
 #ifdef BUSHEL_HAVE_OPENMP
   omp_set_num_threads(threads);

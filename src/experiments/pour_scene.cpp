@@ -81,6 +81,7 @@ PourScene make_pour_scene(const PourSpec& spec) {
   SimulationSettings s;
   s.dt = spec.dt_fraction * t_r;
   s.rolling = spec.rolling;
+  s.skin = spec.skin;
   s.contacts = ContactTable({0.5, 0.27, 0.01});
   s.contacts.set("wheat", "steel", {0.33, 0.17, 0.01});
   PourScene scene{Simulation(std::move(s)), radius, t_r};

@@ -23,22 +23,26 @@ T tangential_stiffness(T g_star, T r_star, T overlap) {
 }
 
 /// Normal force magnitude, positive = repulsive [N]:
-///   F_n = 4/3 E* sqrt(R*) delta^(3/2) + 2 sqrt(5/6) |beta| sqrt(S_n m*) v_n,
+///   F_n = 4/3 E* sqrt(R*) delta^(3/2) + gamma sqrt(S_n m*) v_n,
 /// v_n the approach speed (positive while closing). Net attraction is clamped to zero.
+/// Also returns S_n and sqrt(S_n m*), from which the tangential law derives its own
+/// stiffness and damping without further square roots: 4/3 E* sqrt(R*) delta^(3/2) = 2/3 S_n delta.
 template <class T>
-T normal_force(T e_star, T r_star, T m_star, T damping, T overlap, T approach_speed, T& s_n) {
+T normal_force(T e_star, T r_star, T m_star, T damping, T overlap, T approach_speed, T& s_n, T& root_s_n_m) {
   s_n = normal_stiffness(e_star, r_star, overlap);
-  const T elastic = T(4) / T(3) * e_star * std::sqrt(r_star) * overlap * std::sqrt(overlap);
-  return std::max(T(0), elastic + damping * std::sqrt(s_n * m_star) * approach_speed);
+  root_s_n_m = std::sqrt(s_n * m_star);
+  return std::max(T(0), T(2) / T(3) * s_n * overlap + damping * root_s_n_m * approach_speed);
 }
 
 /// Tangential force on side i [N] from the stored displacement `xi` (updated in place):
 /// `xi` is first rotated into the current tangent plane (its length kept), then advanced by
-/// the tangential relative velocity v_t times dt; F_t = -S_t xi - gamma_t v_t, and where
-/// |F_t| exceeds mu_s F_n the force is cut to the Coulomb limit and xi rescaled to match.
+/// the tangential relative velocity v_t times dt; F_t = -S_t xi - gamma sqrt(S_t m*) v_t, and
+/// where |F_t| exceeds mu_s F_n the force is cut to the Coulomb limit and xi rescaled to match.
+/// S_t = 8 G* sqrt(R* delta) = k S_n with k = 4 G*/E* (`stiffness_ratio`), so the damping
+/// coefficient is gamma sqrt(k) sqrt(S_n m*).
 template <class T>
-Vec3 tangential_force(const Vec3& normal, const Vec3& v_t, T g_star, T r_star, T m_star, T damping, T overlap,
-                      T normal_force_magnitude, T mu_s, T dt, Vec3& xi) {
+Vec3 tangential_force(const Vec3& normal, const Vec3& v_t, T s_n, T root_s_n_m, T stiffness_ratio,
+                      T root_stiffness_ratio, T damping, T normal_force_magnitude, T mu_s, T dt, Vec3& xi) {
   const T len2 = norm2(xi);
   if (len2 > T(0)) {
     const T along = dot(xi, normal);
@@ -49,8 +53,8 @@ Vec3 tangential_force(const Vec3& normal, const Vec3& v_t, T g_star, T r_star, T
     }
   }
   xi += v_t * dt;
-  const T s_t = tangential_stiffness(g_star, r_star, overlap);
-  const T gamma_t = damping * std::sqrt(s_t * m_star);
+  const T s_t = stiffness_ratio * s_n;
+  const T gamma_t = damping * root_stiffness_ratio * root_s_n_m;
   Vec3 f = -s_t * xi - gamma_t * v_t;
   const T limit = mu_s * normal_force_magnitude;
   const T f_len2 = norm2(f);

@@ -20,6 +20,7 @@ struct PourSpec {
   std::uint64_t seed = 12345;          ///< random placement and orientation
   double dt_fraction = 0.2;            ///< time step as a fraction of the Rayleigh step [-]
   std::string rolling = "cdt";         ///< rolling model
+  double skin = 0.0;                   ///< Verlet skin [m]; 0 = the engine's default
   double initial_speed = 0.0;          ///< each particle starts at this speed [m/s] in a random direction
 };
 

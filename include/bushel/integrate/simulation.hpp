@@ -30,7 +30,7 @@ struct SimulationSettings {
   Vec3 gravity{0.0, 0.0, -9.81};  ///< [m/s2]
   Integrator integrator = Integrator::symplectic_euler;
   std::string rolling = "cdt";  ///< rolling model: cdt, epsd, none
-  double skin = 0.0;            ///< Verlet skin [m]; 0 = a quarter of the largest element diameter
+  double skin = 0.0;            ///< Verlet skin [m]; 0 = 0.11 of the largest element diameter
   int sort_every = 20;          ///< spatial sort every N neighbour-list builds; 0 = never
   ContactTable contacts;        ///< restitution, friction, rolling friction per pair
 };
@@ -65,6 +65,7 @@ class Simulation {
   template <class Rolling>
   void compute_forces(const Rolling&);
   void compute_forces();
+  void sum_wall_reactions();
   void kick(double dt);
   void drift(double dt);
 
@@ -81,11 +82,14 @@ class Simulation {
   // per pair results of the last force computation
   std::vector<Vec3> pair_force_, pair_torque_i_, pair_torque_j_;
   std::vector<double> pair_cdt_i_, pair_cdt_j_;
+  std::vector<std::uint8_t> pair_active_;  // 1 while the pair touches (or may: fresh list)
+  std::size_t active_build_ = 0;           // neighbour-list build the flags belong to
   // per element wall contacts: history [(s * walls + w) * h], summed force, torque, cdt
   std::vector<double> wall_history_;
   std::vector<Vec3> wall_force_on_sphere_, wall_torque_on_sphere_;
   std::vector<double> wall_cdt_;
-  std::vector<Vec3> wall_reaction_;  // [(s * walls + w)] force on the wall
+  std::vector<Vec3> wall_reaction_;  // [2 (s * walls + w)]: force on the wall, its torque about the origin
+  std::vector<Vec3> wall_partial_;   // per-chunk sums of wall_reaction_
 
   double time_ = 0.0;
   std::uint64_t steps_ = 0;
