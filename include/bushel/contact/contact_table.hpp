@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "bushel/contact/species_matrix.hpp"
+
 namespace bushel {
 
 struct ContactParameters {
@@ -28,18 +30,8 @@ struct Species {
   std::string material;  ///< material name
 };
 
-/// A dense, symmetric table resolved for a fixed list of species, indexed in the hot loop.
-class DenseContactTable {
- public:
-  DenseContactTable() = default;
-  DenseContactTable(std::size_t n, std::vector<ContactParameters> entries) : n_(n), entries_(std::move(entries)) {}
-  const ContactParameters& operator()(std::size_t i, std::size_t j) const { return entries_[i * n_ + j]; }
-  std::size_t size() const { return n_; }
-
- private:
-  std::size_t n_ = 0;
-  std::vector<ContactParameters> entries_;
-};
+/// Contact parameters resolved for a fixed list of species, indexed in the hot loop.
+using DenseContactTable = SpeciesMatrix<ContactParameters>;
 
 class ContactTable {
  public:

@@ -7,6 +7,7 @@
 
 #include "bushel/contact/contact_table.hpp"
 #include "bushel/contact/restitution_damping.hpp"
+#include "bushel/contact/species_matrix.hpp"
 #include "bushel/particles/material.hpp"
 
 namespace bushel {
@@ -29,17 +30,7 @@ inline PairCoefficients make_pair_coefficients(const Material& a, const Material
           std::sqrt(4.0 * g / e)};
 }
 
-/// Dense symmetric matrix of PairCoefficients over species (particle types, then walls).
-class PairCoefficientTable {
- public:
-  PairCoefficientTable() = default;
-  PairCoefficientTable(std::size_t n, std::vector<PairCoefficients> c) : n_(n), c_(std::move(c)) {}
-  const PairCoefficients& operator()(std::size_t i, std::size_t j) const { return c_[i * n_ + j]; }
-  std::size_t size() const { return n_; }
-
- private:
-  std::size_t n_ = 0;
-  std::vector<PairCoefficients> c_;
-};
+/// PairCoefficients over species (particle types, then walls).
+using PairCoefficientTable = SpeciesMatrix<PairCoefficients>;
 
 }  // namespace bushel
