@@ -352,10 +352,11 @@ void Simulation::kick(double dt) {
         if (along > 0.0) w -= std::min(ps.rolling_resistance[b] * dt / inertia.x, along) * u;
       }
       ps.angular_velocity[b] = w;
+      ps.angular_momentum[b] = inertia.x * w;
       continue;
     }
     const Quat& q = ps.orientation[b];
-    Vec3 l = momentum_from_angular_velocity(q, inertia, omega) + ps.torque[b] * dt;
+    Vec3 l = ps.angular_momentum[b] + ps.torque[b] * dt;
     // Constant directional rolling torque against the body's own spin, capped so that it can
     // stop the spin within this step but never reverse it (physics.md: the CDT sign flip).
     const double w = norm(omega);
@@ -364,6 +365,7 @@ void Simulation::kick(double dt) {
       const double along = dot(angular_velocity_from_momentum(q, inertia, l), u);
       if (along > 0.0) l -= std::min(ps.rolling_resistance[b] * dt, along * inertia_about(q, inertia, u)) * u;
     }
+    ps.angular_momentum[b] = l;
     ps.angular_velocity[b] = angular_velocity_from_momentum(q, inertia, l);
   }
 }
@@ -379,8 +381,8 @@ void Simulation::drift(double dt) {
     if (inertia.x == inertia.y && inertia.y == inertia.z) {
       ps.orientation[b] = advance(ps.orientation[b], ps.angular_velocity[b], dt);  // a sphere: omega is constant
     } else {
-      const Vec3 l = momentum_from_angular_velocity(ps.orientation[b], inertia, ps.angular_velocity[b]);
-      ps.angular_velocity[b] = rotate_rigid(ps.orientation[b], inertia, l, dt);
+      ps.angular_velocity[b] =
+          rotate_rigid(ps.orientation[b], inertia, ps.angular_momentum[b], ps.angular_velocity[b], dt);
     }
   }
   ps.update_sphere_positions();

@@ -36,6 +36,7 @@ std::uint32_t ParticleSystem::add(std::uint32_t type, const BodyState& s) {
   rolling_resistance.push_back(0.0);
   mass.push_back(t.mass());
   inertia.push_back(t.shape.principal_inertia(t.material.density));
+  angular_momentum.push_back(spin_momentum(b));
   first_sphere.push_back(static_cast<std::uint32_t>(spheres()));
   sphere_count.push_back(static_cast<std::uint32_t>(t.shape.spheres.size()));
   for (const auto& e : t.shape.spheres) {
@@ -69,7 +70,9 @@ std::vector<std::uint32_t> ParticleSystem::permute(std::span<const std::uint32_t
     for (std::uint32_t k = 0; k < sphere_count[ob]; ++k) sphere_order.push_back(first_sphere[ob] + k);
   }
   for (auto* v : {&body_id, &body_type, &sphere_count}) apply(*v, order);
-  for (auto* v : {&position, &velocity, &angular_velocity, &force, &torque, &inertia}) apply(*v, order);
+  for (auto* v : {&position, &velocity, &angular_velocity, &angular_momentum, &force, &torque, &inertia}) {
+    apply(*v, order);
+  }
   apply(orientation, order);
   apply(mass, order);
   apply(rolling_resistance, order);
@@ -100,7 +103,7 @@ double ParticleSystem::kinetic_energy() const {
   return e;
 }
 
-Vec3 ParticleSystem::angular_momentum() const {
+Vec3 ParticleSystem::total_angular_momentum() const {
   Vec3 l;
   for (std::size_t b = 0; b < bodies(); ++b) l += mass[b] * cross(position[b], velocity[b]) + spin_momentum(b);
   return l;

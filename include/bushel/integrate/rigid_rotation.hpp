@@ -3,6 +3,8 @@
 // is advanced by the torque in the world frame; the orientation follows with the Richardson
 // scheme used for rigid bodies in LAMMPS/LIGGGHTS (a full step combined with two half steps,
 // second order), and the angular velocity is recovered from the momentum at the new pose.
+// The momentum is the stored state (ParticleSystem::angular_momentum; spin_momentum() gives
+// it from an angular velocity), so a step converts between the two as little as possible.
 
 #include "bushel/core/quat.hpp"
 #include "bushel/core/vec3.hpp"
@@ -13,12 +15,6 @@ namespace bushel {
 inline Vec3 angular_velocity_from_momentum(const Quat& q, const Vec3& inertia, const Vec3& momentum) {
   const Vec3 l = rotate_inverse(q, momentum);
   return rotate(q, Vec3{l.x / inertia.x, l.y / inertia.y, l.z / inertia.z});
-}
-
-/// L = R I R^T omega.
-inline Vec3 momentum_from_angular_velocity(const Quat& q, const Vec3& inertia, const Vec3& omega) {
-  const Vec3 w = rotate_inverse(q, omega);
-  return rotate(q, Vec3{inertia.x * w.x, inertia.y * w.y, inertia.z * w.z});
 }
 
 /// Moment of inertia about the world direction `u` (unit) [kg m2].
@@ -34,9 +30,9 @@ inline Quat advance(const Quat& q, const Vec3& omega, double dt) {
   return normalized(Quat{q.w + h * wq.w, q.x + h * wq.x, q.y + h * wq.y, q.z + h * wq.z});
 }
 
-/// Advances q over dt at constant angular momentum L; returns the new angular velocity.
-inline Vec3 rotate_rigid(Quat& q, const Vec3& inertia, const Vec3& momentum, double dt) {
-  const Vec3 w0 = angular_velocity_from_momentum(q, inertia, momentum);
+/// Advances q over dt at constant angular momentum L, given the angular velocity `w0` that L
+/// has at the current q; returns the new angular velocity.
+inline Vec3 rotate_rigid(Quat& q, const Vec3& inertia, const Vec3& momentum, const Vec3& w0, double dt) {
   const Quat full = advance(q, w0, dt);
   const Quat half = advance(q, w0, 0.5 * dt);
   const Quat half2 = advance(half, angular_velocity_from_momentum(half, inertia, momentum), 0.5 * dt);

@@ -42,7 +42,7 @@ class ParticleSystem {
   /// Translational plus rotational kinetic energy [J].
   double kinetic_energy() const;
   /// Angular momentum about the origin [kg m2/s] (orbital plus spin).
-  Vec3 angular_momentum() const;
+  Vec3 total_angular_momentum() const;
   /// Rotational kinetic energy of one body [J], with its principal inertia.
   double rotational_energy(std::size_t b) const;
   /// Spin angular momentum of one body in the world frame [kg m2/s].
@@ -54,7 +54,8 @@ class ParticleSystem {
   std::vector<Vec3> position;               ///< centre of mass [m]
   std::vector<Quat> orientation;            ///< principal frame -> world
   std::vector<Vec3> velocity;               ///< [m/s]
-  std::vector<Vec3> angular_velocity;       ///< world frame [rad/s]
+  std::vector<Vec3> angular_velocity;       ///< world frame [rad/s]; derived from angular_momentum each step
+  std::vector<Vec3> angular_momentum;       ///< spin angular momentum, world frame [kg m2/s]: the rotational state
   std::vector<Vec3> force;                  ///< total force of the last step [N]
   std::vector<Vec3> torque;                 ///< total torque about the centre of mass, world [N m]
   std::vector<double> rolling_resistance;   ///< CDT rolling torque magnitude of the last step [N m]
