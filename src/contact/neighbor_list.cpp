@@ -1,10 +1,11 @@
 #include "bushel/contact/neighbor_list.hpp"
-#include "bushel/core/parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
+
+#include "bushel/core/parallel.hpp"
 
 namespace bushel {
 namespace {
@@ -40,8 +41,8 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
   Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
   double r_max = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    lo = {std::min(lo.x, position[i].x), std::min(lo.y, position[i].y), std::min(lo.z, position[i].z)};
-    hi = {std::max(hi.x, position[i].x), std::max(hi.y, position[i].y), std::max(hi.z, position[i].z)};
+    lo = min(lo, position[i]);
+    hi = max(hi, position[i]);
     r_max = std::max(r_max, radius[i]);
   }
   double cell = 2.0 * r_max + skin_;
@@ -75,7 +76,9 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
   }
 
   // --- candidate pairs, per element i (j > i), in two passes so threads never share -------
-  std::vector<std::vector<std::uint32_t>> partners(n);
+  // Per-element partner buffers live in the list so rebuilds reuse their capacity.
+  auto& partners = partners_;
+  partners.resize(n);
   const auto sn = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel for schedule(dynamic, 256) if (sn > parallel_threshold)
   for (std::ptrdiff_t si = 0; si < sn; ++si) {
@@ -83,6 +86,7 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
     std::int64_t cx, cy, cz;
     cell_of(position[i], cx, cy, cz);
     auto& out = partners[i];
+    out.clear();
     for (std::int64_t dz = -1; dz <= 1; ++dz) {
       const std::int64_t z = cz + dz;
       if (z < 0 || z >= nz) continue;

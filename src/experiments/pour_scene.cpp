@@ -1,7 +1,7 @@
 #include "bushel/experiments/pour_scene.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 #include <fstream>
 #include <numbers>
 #include <random>
@@ -72,10 +72,10 @@ PourScene make_pour_scene(const PourSpec& spec) {
                     spec.particle == "sphere" ? make_template("sphere", {{{0, 0, 0}, 1.82e-3}})
                                               : TemplateLibrary::builtin().get(spec.particle),
                     wheat};
-  const double t_r = rayleigh_time_step(type.shape.min_sphere_radius(), wheat.density, wheat.shear_modulus,
-                                        wheat.poisson_ratio);
-  const double diameter =
-      spec.container_diameter > 0.0 ? spec.container_diameter : 0.090 * std::cbrt(static_cast<double>(spec.count) / 1e4);
+  const double t_r =
+      rayleigh_time_step(type.shape.min_sphere_radius(), wheat.density, wheat.shear_modulus, wheat.poisson_ratio);
+  const double diameter = spec.container_diameter > 0.0 ? spec.container_diameter
+                                                        : 0.090 * std::cbrt(static_cast<double>(spec.count) / 1e4);
   const double radius = 0.5 * diameter;
 
   SimulationSettings s;
@@ -109,8 +109,8 @@ void write_liggghts_data(const std::string& path, const ParticleSystem& particle
   const double box = container_radius + 0.002;
   out << fmt::format("bushel pour scene: N={} Dcyl={:.6f} m\n\n{} atoms\n2 atom types\n\n", particles.bodies(),
                      2 * container_radius, particles.bodies());
-  out << fmt::format("{:.6f} {:.6f} xlo xhi\n{:.6f} {:.6f} ylo yhi\n{:.6f} {:.6f} zlo zhi\n\nAtoms\n\n", -box, box, -box,
-                     box, -0.001, z_max + 0.01);
+  out << fmt::format("{:.6f} {:.6f} xlo xhi\n{:.6f} {:.6f} ylo yhi\n{:.6f} {:.6f} zlo zhi\n\nAtoms\n\n", -box, box,
+                     -box, box, -0.001, z_max + 0.01);
   for (std::size_t b = 0; b < particles.bodies(); ++b) {
     const auto& t = particles.types()[particles.body_type[b]];
     out << fmt::format("{} 1 {:.6g} {:.6g} {:.9f} {:.9f} {:.9f}\n", b + 1, t.shape.equivalent_diameter(),

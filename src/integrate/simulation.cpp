@@ -1,5 +1,4 @@
 #include "bushel/integrate/simulation.hpp"
-#include "bushel/core/parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +7,7 @@
 
 #include "bushel/contact/hertz_mindlin.hpp"
 #include "bushel/core/input_error.hpp"
+#include "bushel/core/parallel.hpp"
 #include "bushel/integrate/rigid_rotation.hpp"
 
 namespace bushel {
@@ -16,6 +16,8 @@ namespace {
 Vec3 load3(const double* h) { return {h[0], h[1], h[2]}; }
 void store3(double* h, const Vec3& v) { h[0] = v.x, h[1] = v.y, h[2] = v.z; }
 double min_moment(const Vec3& i) { return std::min({i.x, i.y, i.z}); }
+// Equal principal moments (a sphere): L = I omega in any frame, so rotation needs no quaternion work.
+bool is_isotropic(const Vec3& i) { return i.x == i.y && i.y == i.z; }
 
 // One Hertz-Mindlin contact with rolling model R, shared by sphere-sphere and sphere-wall
 // contacts: everything about the pair comes in, the force on side i and the rolling output
@@ -117,7 +119,7 @@ void Simulation::spatial_sort() {
   const std::size_t n = ps.bodies();
   if (n < 2) return;
   Vec3 lo{INFINITY, INFINITY, INFINITY};
-  for (const auto& p : ps.position) lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+  for (const auto& p : ps.position) lo = min(lo, p);
   double r_max = 0.0;
   for (const double r : ps.radius) r_max = std::max(r_max, r);
   const double cell = 2.0 * r_max + neighbors_.skin();
@@ -206,8 +208,16 @@ void Simulation::compute_forces(const Rolling&) {
     // A lone sphere's centre of mass is its centre: the arm is r - delta/2, no square root.
     const double arm_i_len = ps.sphere_count[bi] == 1 ? ri - 0.5 * overlap : norm(arm_i);
     const double arm_j_len = ps.sphere_count[bj] == 1 ? rj - 0.5 * overlap : norm(arm_j);
-    ContactKinematics k{n, overlap, v_rel, ps.angular_velocity[bi], ps.angular_velocity[bj], arm_i_len, arm_j_len,
-                        ri * rj / (ri + rj), mi * mj / (mi + mj), 0.0};
+    ContactKinematics k{n,
+                        overlap,
+                        v_rel,
+                        ps.angular_velocity[bi],
+                        ps.angular_velocity[bj],
+                        arm_i_len,
+                        arm_j_len,
+                        ri * rj / (ri + rj),
+                        mi * mj / (mi + mj),
+                        0.0};
     if constexpr (std::is_same_v<Rolling, EpsdRolling>) {
       const double ii = min_moment(ps.inertia[bi]) + mi * k.arm_i * k.arm_i;
       const double ij = min_moment(ps.inertia[bj]) + mj * k.arm_j * k.arm_j;
@@ -306,7 +316,7 @@ void Simulation::sum_wall_reactions() {
   const std::size_t per_chunk = (n_s + chunks - 1) / chunks;
   wall_partial_.assign(2 * chunks * n_w, Vec3{});
   const auto nc = static_cast<std::ptrdiff_t>(chunks);
-#pragma omp parallel for schedule(static) if (static_cast<std::ptrdiff_t>(n_s) > parallel_threshold)
+#pragma omp parallel for schedule(static) if (static_cast <std::ptrdiff_t>(n_s) > parallel_threshold)
   for (std::ptrdiff_t sc = 0; sc < nc; ++sc) {
     const auto c = static_cast<std::size_t>(sc);
     Vec3* out = wall_partial_.data() + 2 * c * n_w;
@@ -342,8 +352,7 @@ void Simulation::kick(double dt) {
     ps.velocity[b] += ps.force[b] * (dt / ps.mass[b]);
     const Vec3& inertia = ps.inertia[b];
     const Vec3 omega = ps.angular_velocity[b];
-    if (inertia.x == inertia.y && inertia.y == inertia.z) {
-      // Isotropic body (a sphere): L = I omega in any frame; same cap as below.
+    if (is_isotropic(inertia)) {  // same cap as below, in omega instead of L
       Vec3 w = omega + ps.torque[b] * (dt / inertia.x);
       const double w0 = norm(omega);
       if (ps.rolling_resistance[b] > 0.0 && w0 > 0.0) {
@@ -378,8 +387,8 @@ void Simulation::drift(double dt) {
     const auto b = static_cast<std::size_t>(sb);
     ps.position[b] += ps.velocity[b] * dt;
     const Vec3& inertia = ps.inertia[b];
-    if (inertia.x == inertia.y && inertia.y == inertia.z) {
-      ps.orientation[b] = advance(ps.orientation[b], ps.angular_velocity[b], dt);  // a sphere: omega is constant
+    if (is_isotropic(inertia)) {
+      ps.orientation[b] = advance(ps.orientation[b], ps.angular_velocity[b], dt);  // omega is constant
     } else {
       ps.angular_velocity[b] =
           rotate_rigid(ps.orientation[b], inertia, ps.angular_momentum[b], ps.angular_velocity[b], dt);

@@ -1,7 +1,8 @@
 #include "bushel/particles/particle_system.hpp"
-#include "bushel/core/parallel.hpp"
 
 #include <stdexcept>
+
+#include "bushel/core/parallel.hpp"
 
 namespace bushel {
 namespace {
@@ -101,12 +102,6 @@ double ParticleSystem::kinetic_energy() const {
   double e = 0.0;
   for (std::size_t b = 0; b < bodies(); ++b) e += 0.5 * mass[b] * norm2(velocity[b]) + rotational_energy(b);
   return e;
-}
-
-Vec3 ParticleSystem::total_angular_momentum() const {
-  Vec3 l;
-  for (std::size_t b = 0; b < bodies(); ++b) l += mass[b] * cross(position[b], velocity[b]) + spin_momentum(b);
-  return l;
 }
 
 }  // namespace bushel

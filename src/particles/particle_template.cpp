@@ -67,10 +67,9 @@ double ParticleTemplate::equivalent_diameter() const { return std::cbrt(6.0 * vo
 Vec3 ParticleTemplate::extents() const {
   Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
   for (const auto& s : spheres) {
-    lo = {std::min(lo.x, s.centre.x - s.radius), std::min(lo.y, s.centre.y - s.radius),
-          std::min(lo.z, s.centre.z - s.radius)};
-    hi = {std::max(hi.x, s.centre.x + s.radius), std::max(hi.y, s.centre.y + s.radius),
-          std::max(hi.z, s.centre.z + s.radius)};
+    const Vec3 r{s.radius, s.radius, s.radius};
+    lo = min(lo, s.centre - r);
+    hi = max(hi, s.centre + r);
   }
   return hi - lo;
 }

@@ -16,12 +16,6 @@ T normal_stiffness(T e_star, T r_star, T overlap) {
   return T(2) * e_star * std::sqrt(r_star * overlap);
 }
 
-/// Tangential stiffness S_t = 8 G* sqrt(R* delta_n) [N/m].
-template <class T>
-T tangential_stiffness(T g_star, T r_star, T overlap) {
-  return T(8) * g_star * std::sqrt(r_star * overlap);
-}
-
 /// Normal force magnitude, positive = repulsive [N]:
 ///   F_n = 4/3 E* sqrt(R*) delta^(3/2) + gamma sqrt(S_n m*) v_n,
 /// v_n the approach speed (positive while closing). Net attraction is clamped to zero.

@@ -53,6 +53,7 @@ class NeighborList {
   std::vector<std::uint64_t> key_;  // stable pair identity, min id << 32 | max id
   std::vector<double> history_;
   std::vector<std::uint32_t> incident_start_, incident_;
+  std::vector<std::vector<std::uint32_t>> partners_;  // build scratch: candidates of each element
 };
 
 }  // namespace bushel

@@ -13,11 +13,11 @@
 namespace bushel {
 
 struct PairCoefficients {
-  double youngs_modulus = 0.0;    ///< E* [Pa]
-  double shear_modulus = 0.0;     ///< G* [Pa]
-  double damping = 0.0;           ///< gamma in F_n = ... + gamma sqrt(S_n m*) v_n [-] (restitution_damping.hpp)
-  double static_friction = 0.0;   ///< mu_s [-]
-  double rolling_friction = 0.0;  ///< mu_r [-]
+  double youngs_modulus = 0.0;        ///< E* [Pa]
+  double shear_modulus = 0.0;         ///< G* [Pa]
+  double damping = 0.0;               ///< gamma in F_n = ... + gamma sqrt(S_n m*) v_n [-] (restitution_damping.hpp)
+  double static_friction = 0.0;       ///< mu_s [-]
+  double rolling_friction = 0.0;      ///< mu_r [-]
   double stiffness_ratio = 0.0;       ///< S_t / S_n = 4 G* / E* [-]
   double root_stiffness_ratio = 0.0;  ///< sqrt(S_t / S_n) [-]
 };
@@ -26,7 +26,12 @@ struct PairCoefficients {
 /// clamped normal law (restitution_damping.hpp).
 inline PairCoefficients make_pair_coefficients(const Material& a, const Material& b, const ContactParameters& p) {
   const double e = effective_youngs_modulus(a, b), g = effective_shear_modulus(a, b);
-  return {e, g, damping_for_restitution(p.restitution), p.static_friction, p.rolling_friction, 4.0 * g / e,
+  return {e,
+          g,
+          damping_for_restitution(p.restitution),
+          p.static_friction,
+          p.rolling_friction,
+          4.0 * g / e,
           std::sqrt(4.0 * g / e)};
 }
 

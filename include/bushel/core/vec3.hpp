@@ -47,5 +47,12 @@ constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
 constexpr double norm2(const Vec3& a) { return dot(a, a); }
 inline double norm(const Vec3& a) { return std::sqrt(norm2(a)); }
 inline Vec3 normalized(const Vec3& a) { return a / norm(a); }
+/// Component-wise minimum and maximum (bounding boxes).
+constexpr Vec3 min(const Vec3& a, const Vec3& b) {
+  return {a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z};
+}
+constexpr Vec3 max(const Vec3& a, const Vec3& b) {
+  return {a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z};
+}
 
 }  // namespace bushel

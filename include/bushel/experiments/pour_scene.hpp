@@ -13,15 +13,15 @@
 namespace bushel {
 
 struct PourSpec {
-  std::size_t count = 10'000;          ///< number of particles
-  std::string particle = "sphere";     ///< "sphere" (d = 3.64 mm) or a template name (e.g. large_5s)
-  double container_diameter = 0.0;     ///< [m]; 0 = 90 mm (count/10000)^(1/3)
-  double solid_fraction = 0.30;        ///< of the initial cloud, counted with exclusion spheres [-]
-  std::uint64_t seed = 12345;          ///< random placement and orientation
-  double dt_fraction = 0.2;            ///< time step as a fraction of the Rayleigh step [-]
-  std::string rolling = "cdt";         ///< rolling model
-  double skin = 0.0;                   ///< Verlet skin [m]; 0 = the engine's default
-  double initial_speed = 0.0;          ///< each particle starts at this speed [m/s] in a random direction
+  std::size_t count = 10'000;       ///< number of particles
+  std::string particle = "sphere";  ///< "sphere" (d = 3.64 mm) or a template name (e.g. large_5s)
+  double container_diameter = 0.0;  ///< [m]; 0 = 90 mm (count/10000)^(1/3)
+  double solid_fraction = 0.30;     ///< of the initial cloud, counted with exclusion spheres [-]
+  std::uint64_t seed = 12345;       ///< random placement and orientation
+  double dt_fraction = 0.2;         ///< time step as a fraction of the Rayleigh step [-]
+  std::string rolling = "cdt";      ///< rolling model
+  double skin = 0.0;                ///< Verlet skin [m]; 0 = the engine's default
+  double initial_speed = 0.0;       ///< each particle starts at this speed [m/s] in a random direction
 };
 
 struct PourScene {

@@ -41,8 +41,6 @@ class ParticleSystem {
 
   /// Translational plus rotational kinetic energy [J].
   double kinetic_energy() const;
-  /// Angular momentum about the origin [kg m2/s] (orbital plus spin).
-  Vec3 total_angular_momentum() const;
   /// Rotational kinetic energy of one body [J], with its principal inertia.
   double rotational_energy(std::size_t b) const;
   /// Spin angular momentum of one body in the world frame [kg m2/s].
