@@ -50,7 +50,14 @@ void run_demo(const DemoOptions& o) {
   if (o.threads > 0) omp_set_num_threads(o.threads);
 #endif
   const double max_time = option_quantity("--max-time", o.max_time, units::dim::time);
-  const double settled = units::parse_number(o.settled);
+  // Kinetic energy per particle in J: a plain number, since the units layer has no energies.
+  double settled = 0.0;
+  try {
+    settled = units::parse_number(o.settled);
+  } catch (const InputError& e) {
+    throw e.with_key("--settled");
+  }
+  if (!(settled > 0.0)) throw InputError("expected a positive energy in J, e.g. 1e-9").with_key("--settled");
   PourSpec spec;
   spec.count = o.count;
   spec.particle = o.particle;
