@@ -3,10 +3,14 @@
 // per phase, one CSV line each:
 //   bench_pour N PARTICLE THREADS NPOUR NSETTLE NDENSE [DATAFILE]
 // With DATAFILE, the initial state is also written for LIGGGHTS (same positions).
+// BUSHEL_STATE=<file> (for A/B runs of the settled bed): if the file exists, the bodies start
+// from the state in it and the pour and settle phases are skipped; otherwise the state after
+// the settle phase is written to it. Contact history is not kept.
+#include <fmt/format.h>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <fmt/format.h>
+#include <fstream>
 #include <string>
 
 #include "bushel/experiments/pour_scene.hpp"
@@ -31,9 +35,42 @@ int main(int argc, char** argv) {
   bushel::PourScene scene = bushel::make_pour_scene(spec);
   if (argc > 7) bushel::write_liggghts_data(argv[7], scene.simulation.particles(), scene.container_radius);
   auto& sim = scene.simulation;
+  auto& ps = sim.particles();
+  const char* state = std::getenv("BUSHEL_STATE");
+  // Per body, by stable id: position, orientation, velocity, angular velocity, angular momentum.
+  auto transfer = [&](std::fstream& stream, bool write) {
+    std::vector<std::size_t> index(ps.bodies());
+    for (std::size_t b = 0; b < ps.bodies(); ++b) index[ps.body_id[b]] = b;
+    for (const std::size_t b : index) {
+      double* fields[] = {&ps.position[b].x, &ps.orientation[b].w, &ps.velocity[b].x, &ps.angular_velocity[b].x,
+                          &ps.angular_momentum[b].x};
+      const int sizes[] = {3, 4, 3, 3, 3};
+      for (int f = 0; f < 5; ++f) {
+        for (int k = 0; k < sizes[f]; ++k) {
+          if (write) {
+            stream.write(reinterpret_cast<const char*>(fields[f] + k), sizeof(double));
+          } else {
+            stream.read(reinterpret_cast<char*>(fields[f] + k), sizeof(double));
+          }
+        }
+      }
+    }
+  };
+  bool loaded = false;
+  if (state) {
+    if (std::fstream in(state, std::ios::in | std::ios::binary); in) {
+      transfer(in, false);
+      loaded = true;
+    }
+  }
   const char* phases[] = {"pour", "settle", "dense"};
   fmt::print("code,particle,n,threads,phase,steps,seconds,particle_steps_per_s,contacts\n");
   for (int k = 0; k < 3; ++k) {
+    if (loaded && k < 2) continue;
+    if (state && !loaded && k == 2) {
+      std::fstream out(state, std::ios::out | std::ios::binary);
+      transfer(out, true);
+    }
     const auto steps = std::stoull(argv[4 + k]);
     const auto t0 = std::chrono::steady_clock::now();
     sim.step(steps);

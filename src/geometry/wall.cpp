@@ -1,5 +1,6 @@
 #include "bushel/geometry/wall.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace bushel {
@@ -18,6 +19,15 @@ WallTouch touch(const CylinderShape& s, const Vec3& p, double r) {
   if (gap >= r || rho == 0.0) return {};
   const Vec3 n = radial / rho;
   return {true, n, r - gap, Vec3{s.axis_point.x, s.axis_point.y, p.z} + s.radius * n};
+}
+
+double clearance(const PlaneShape& s, const Vec3& p, double r) { return dot(p - s.point, s.normal) - r; }
+
+double clearance(const CylinderShape& s, const Vec3& p, double r) {
+  const double rho = std::hypot(p.x - s.axis_point.x, p.y - s.axis_point.y);
+  // Outside the wall's height band the centre must first move back into it (touch() tests
+  // the centre's height).
+  return std::max({s.radius - rho - r, s.z_min - p.z, p.z - s.z_max});
 }
 
 }  // namespace bushel

@@ -86,7 +86,10 @@ void Simulation::prepare() {
         c[i * n + j] = make_pair_coefficients(*materials[i], *materials[j], dense(i, j));
     }
     coefficients_ = PairCoefficientTable(n, std::move(c));
-    if (walls_.size() != prepared_walls_) wall_history_.clear();  // layout changes with the wall count
+    if (walls_.size() != prepared_walls_) {  // the history layout changes with the wall count
+      wall_history_.clear();
+      walls_changed_ = true;
+    }
     if (!neighbors_configured_ && !types.empty()) {
       // The default skin is 0.11 of the largest element diameter (0.40 mm for 3.64 mm
       // spheres): on the pour benchmark it ran the settled bed 13% faster than 0.25 d and the
@@ -107,10 +110,6 @@ void Simulation::prepare() {
   const std::size_t h = static_cast<std::size_t>(neighbors_.history_size());
   const std::size_t n_s = particles_.spheres(), n_w = walls_.size();
   wall_history_.resize(n_s * n_w * h, 0.0);  // new elements append their (zero) history
-  wall_force_on_sphere_.resize(n_s);
-  wall_torque_on_sphere_.resize(n_s);
-  wall_cdt_.resize(n_s);
-  wall_reaction_.resize(2 * n_s * n_w);
   particles_.update_sphere_positions();
 }
 
@@ -151,6 +150,34 @@ void Simulation::rebuild() {
   }
   const auto& ps = particles_;
   neighbors_.build(ps.sphere_position, ps.radius, ps.owner, ps.sphere_id);
+  find_wall_candidates();
+}
+
+void Simulation::find_wall_candidates() {
+  // Walls are still and no element moves more than half the skin before the next build, so
+  // a sphere further than the skin from a wall cannot reach it before then.
+  const auto& ps = particles_;
+  const std::size_t n_s = ps.spheres(), n_w = walls_.size();
+  const auto h = static_cast<std::size_t>(neighbors_.history_size());
+  const double skin = neighbors_.skin();
+  wall_start_.assign(n_s + 1, 0);
+  wall_of_candidate_.clear();
+  for (std::size_t s = 0; s < n_s; ++s) {
+    for (std::size_t w = 0; w < n_w; ++w) {
+      if (clearance(walls_[w], ps.sphere_position[s], ps.radius[s]) < skin) {
+        wall_of_candidate_.push_back(static_cast<std::uint32_t>(w));
+      } else {  // out of reach: any history left is stale
+        std::fill_n(wall_history_.data() + (s * n_w + w) * h, h, 0.0);
+      }
+    }
+    wall_start_[s + 1] = static_cast<std::uint32_t>(wall_of_candidate_.size());
+  }
+  const std::size_t n_c = wall_of_candidate_.size();
+  wall_force_.assign(n_c, Vec3{});
+  wall_torque_.assign(n_c, Vec3{});
+  wall_cdt_.assign(n_c, 0.0);
+  wall_reaction_.assign(2 * n_c, Vec3{});
+  walls_changed_ = false;
 }
 
 template <class Rolling>
@@ -232,7 +259,7 @@ void Simulation::compute_forces(const Rolling&) {
     pair_cdt_j_[p] = roll.cdt_j;
   }
 
-  // --- sphere-wall --------------------------------------------------------------------------
+  // --- sphere-wall, over the candidates -------------------------------------------------------
   const std::size_t n_w = walls_.size();
   const std::size_t n_types = ps.types().size();
   const auto ns = static_cast<std::ptrdiff_t>(ps.spheres());
@@ -240,15 +267,15 @@ void Simulation::compute_forces(const Rolling&) {
   for (std::ptrdiff_t ss = 0; ss < ns; ++ss) {
     const auto s = static_cast<std::size_t>(ss);
     const std::uint32_t b = ps.owner[s];
-    Vec3 f_sum, t_sum;
-    double cdt = 0.0;
-    for (std::size_t w = 0; w < n_w; ++w) {
+    for (std::uint32_t cw = wall_start_[s]; cw < wall_start_[s + 1]; ++cw) {
+      const std::uint32_t w = wall_of_candidate_[cw];
       double* hist = wall_history_.data() + (s * n_w + w) * static_cast<std::size_t>(h);
-      Vec3* reaction = wall_reaction_.data() + 2 * (s * n_w + w);
+      Vec3* reaction = wall_reaction_.data() + 2 * std::size_t{cw};
       const WallTouch t = touch(walls_[w], ps.sphere_position[s], ps.radius[s]);
       if (!t.touching) {
         if (std::any_of(hist, hist + h, [](double v) { return v != 0.0; })) std::fill_n(hist, h, 0.0);
-        reaction[0] = reaction[1] = Vec3{};
+        wall_force_[cw] = wall_torque_[cw] = reaction[0] = reaction[1] = Vec3{};
+        wall_cdt_[cw] = 0.0;
         continue;
       }
       max_ratio = std::max(max_ratio, t.overlap / ps.radius[s]);
@@ -262,15 +289,12 @@ void Simulation::compute_forces(const Rolling&) {
                           ps.mass[b], min_moment(ps.inertia[b]) + ps.mass[b] * arm_len * arm_len};
       RollingOutput roll;
       const Vec3 f = contact_force<Rolling>(k, coefficients_(ps.species[s], n_types + w), dt, hist, roll);
-      f_sum += f;
-      t_sum += cross(arm, f) + roll.torque_i;
-      cdt += roll.cdt_i;
+      wall_force_[cw] = f;
+      wall_torque_[cw] = cross(arm, f) + roll.torque_i;
+      wall_cdt_[cw] = roll.cdt_i;
       reaction[0] = -f;
       reaction[1] = cross(t.point, -f) - roll.torque_i;
     }
-    wall_force_on_sphere_[s] = f_sum;
-    wall_torque_on_sphere_[s] = t_sum;
-    wall_cdt_[s] = cdt;
   }
   sum_wall_reactions();
 
@@ -294,9 +318,11 @@ void Simulation::compute_forces(const Rolling&) {
           cdt += pair_cdt_j_[p];
         }
       }
-      f += wall_force_on_sphere_[s];
-      t += wall_torque_on_sphere_[s];
-      cdt += wall_cdt_[s];
+      for (std::uint32_t cw = wall_start_[s]; cw < wall_start_[s + 1]; ++cw) {
+        f += wall_force_[cw];
+        t += wall_torque_[cw];
+        cdt += wall_cdt_[cw];
+      }
     }
     ps.force[b] = f;
     ps.torque[b] = t;
@@ -308,30 +334,29 @@ void Simulation::compute_forces(const Rolling&) {
 }
 
 void Simulation::sum_wall_reactions() {
-  // Fixed chunks of elements, summed in order: the same sums for any thread count, without a
-  // serial pass over every element and wall.
-  const std::size_t n_w = walls_.size(), n_s = particles_.spheres();
+  // Fixed chunks of candidates, summed in order: the same sums for any thread count, without
+  // a serial pass over every candidate.
+  const std::size_t n_w = walls_.size(), n_c = wall_of_candidate_.size();
   if (n_w == 0) return;
   constexpr std::size_t chunks = 64;
-  const std::size_t per_chunk = (n_s + chunks - 1) / chunks;
+  const std::size_t per_chunk = (n_c + chunks - 1) / chunks;
   wall_partial_.assign(2 * chunks * n_w, Vec3{});
   const auto nc = static_cast<std::ptrdiff_t>(chunks);
-#pragma omp parallel for schedule(static) if (static_cast <std::ptrdiff_t>(n_s) > parallel_threshold)
+#pragma omp parallel for schedule(static) if (static_cast <std::ptrdiff_t>(n_c) > parallel_threshold)
   for (std::ptrdiff_t sc = 0; sc < nc; ++sc) {
-    const auto c = static_cast<std::size_t>(sc);
-    Vec3* out = wall_partial_.data() + 2 * c * n_w;
-    for (std::size_t s = c * per_chunk; s < std::min(n_s, (c + 1) * per_chunk); ++s) {
-      for (std::size_t w = 0; w < n_w; ++w) {
-        out[2 * w] += wall_reaction_[2 * (s * n_w + w)];
-        out[2 * w + 1] += wall_reaction_[2 * (s * n_w + w) + 1];
-      }
+    const auto k = static_cast<std::size_t>(sc);
+    Vec3* out = wall_partial_.data() + 2 * k * n_w;
+    for (std::size_t c = k * per_chunk; c < std::min(n_c, (k + 1) * per_chunk); ++c) {
+      const std::uint32_t w = wall_of_candidate_[c];
+      out[2 * w] += wall_reaction_[2 * c];
+      out[2 * w + 1] += wall_reaction_[2 * c + 1];
     }
   }
   for (std::size_t w = 0; w < n_w; ++w) {
     Vec3 f, t;
-    for (std::size_t c = 0; c < chunks; ++c) {
-      f += wall_partial_[2 * (c * n_w + w)];
-      t += wall_partial_[2 * (c * n_w + w) + 1];
+    for (std::size_t k = 0; k < chunks; ++k) {
+      f += wall_partial_[2 * (k * n_w + w)];
+      t += wall_partial_[2 * (k * n_w + w) + 1];
     }
     walls_[w].force = f;
     walls_[w].torque = t;
@@ -339,7 +364,7 @@ void Simulation::sum_wall_reactions() {
 }
 
 void Simulation::compute_forces() {
-  if (neighbors_.needs_rebuild(particles_.sphere_position)) rebuild();
+  if (walls_changed_ || neighbors_.needs_rebuild(particles_.sphere_position)) rebuild();
   std::visit([this](const auto& model) { compute_forces(model); }, rolling_);
 }
 

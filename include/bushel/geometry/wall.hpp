@@ -48,4 +48,13 @@ inline WallTouch touch(const Wall& w, const Vec3& p, double r) {
   return std::visit([&](const auto& s) { return touch(s, p, r); }, w.shape);
 }
 
+/// A lower bound on how far a sphere (centre `p`, radius `r`) must move before it can touch
+/// the shape [m]; zero or negative while it may touch. The broad phase keeps a sphere-wall
+/// pair while this is below the skin.
+double clearance(const PlaneShape& s, const Vec3& p, double r);
+double clearance(const CylinderShape& s, const Vec3& p, double r);
+inline double clearance(const Wall& w, const Vec3& p, double r) {
+  return std::visit([&](const auto& s) { return clearance(s, p, r); }, w.shape);
+}
+
 }  // namespace bushel

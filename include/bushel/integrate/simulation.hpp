@@ -3,7 +3,8 @@
 // (ARCHITECTURE.md, "Time step"). One step:
 //   1. rebuild the neighbour list if needed (spatially sorting the particles every few builds)
 //   2. sphere-sphere contacts, in parallel over pairs, each pair writing its own slot
-//   3. sphere-wall contacts, in parallel over elements
+//   3. sphere-wall contacts, in parallel over the sphere-wall pairs found near at the last
+//      neighbour-list build
 //   4. gather forces and torques onto bodies in a fixed order (thread-count independent)
 //   5. integrate (symplectic Euler or velocity Verlet; quaternion rigid rotation)
 
@@ -43,7 +44,7 @@ class Simulation {
   const ParticleSystem& particles() const { return particles_; }
   /// Adds a wall; returns its index.
   std::size_t add_wall(Wall wall);
-  Wall& wall(std::size_t i) { return walls_[i]; }
+  const Wall& wall(std::size_t i) const { return walls_[i]; }
   std::size_t walls() const { return walls_.size(); }
 
   /// Advances `n` steps.
@@ -61,6 +62,7 @@ class Simulation {
  private:
   void prepare();
   void rebuild();
+  void find_wall_candidates();
   void spatial_sort();
   template <class Rolling>
   void compute_forces(const Rolling&);
@@ -84,12 +86,15 @@ class Simulation {
   std::vector<double> pair_cdt_i_, pair_cdt_j_;
   std::vector<std::uint8_t> pair_active_;  // 1 while the pair touches (or may: fresh list)
   std::size_t active_build_ = 0;           // neighbour-list build the flags belong to
-  // per element wall contacts: history [(s * walls + w) * h], summed force, torque, cdt
+  // sphere-wall: history dense over [(s * walls + w) * h]; candidates (spheres within the
+  // skin of a wall at the last build) grouped by sphere (CSR), with their results
   std::vector<double> wall_history_;
-  std::vector<Vec3> wall_force_on_sphere_, wall_torque_on_sphere_;
-  std::vector<double> wall_cdt_;
-  std::vector<Vec3> wall_reaction_;  // [2 (s * walls + w)]: force on the wall, its torque about the origin
-  std::vector<Vec3> wall_partial_;   // per-chunk sums of wall_reaction_
+  std::vector<std::uint32_t> wall_start_, wall_of_candidate_;
+  std::vector<Vec3> wall_force_, wall_torque_;  // on the sphere's body [N], [N m]
+  std::vector<double> wall_cdt_;                // CDT magnitude on the sphere's body [N m]
+  std::vector<Vec3> wall_reaction_;             // [2 c]: force on the wall, its torque about the origin
+  std::vector<Vec3> wall_partial_;              // per-chunk sums of wall_reaction_
+  bool walls_changed_ = true;                   // the candidates must be found again
 
   double time_ = 0.0;
   std::uint64_t steps_ = 0;
