@@ -2,12 +2,15 @@
 // settle and dense (the settled bed) of the pour scene and prints particle-steps per second
 // per phase, one CSV line each:
 //   bench_pour N PARTICLE THREADS NPOUR NSETTLE NDENSE [DATAFILE]
+// Each phase length is a step count or simulated seconds ("0.245s").
 // With DATAFILE, the initial state is also written for LIGGGHTS (same positions).
 // BUSHEL_STATE=<file> (for A/B runs of the settled bed): if the file exists, the bodies start
 // from the state in it and the pour and settle phases are skipped; otherwise the state after
 // the settle phase is written to it. Contact history is not kept.
 #include <fmt/format.h>
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -71,7 +74,11 @@ int main(int argc, char** argv) {
       std::fstream out(state, std::ios::out | std::ios::binary);
       transfer(out, true);
     }
-    const auto steps = std::stoull(argv[4 + k]);
+    // A phase length is a step count, or simulated seconds with an "s" suffix ("0.245s"), so
+    // that beds with different time steps (clumps) reach the same physical stage.
+    const std::string arg = argv[4 + k];
+    const auto steps = arg.ends_with('s') ? static_cast<std::uint64_t>(std::ceil(std::stod(arg) / sim.settings().dt))
+                                          : std::stoull(arg);
     const auto t0 = std::chrono::steady_clock::now();
     sim.step(steps);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
