@@ -1,11 +1,14 @@
 #include "bushel/integrate/simulation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <type_traits>
+#include <utility>
 
-#include "bushel/contact/hertz_mindlin.hpp"
+#include "bushel/contact/contact_batch.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/core/parallel.hpp"
 #include "bushel/integrate/rigid_rotation.hpp"
@@ -19,36 +22,95 @@ double min_moment(const Vec3& i) { return std::min({i.x, i.y, i.z}); }
 // Equal principal moments (a sphere): L = I omega in any frame, so rotation needs no quaternion work.
 bool is_isotropic(const Vec3& i) { return i.x == i.y && i.y == i.z; }
 
-// One Hertz-Mindlin contact with rolling model R, shared by sphere-sphere and sphere-wall
-// contacts: everything about the pair comes in, the force on side i and the rolling output
-// come out, and the history (tangential displacement, then the model's values) is updated.
-struct ContactKinematics {
-  Vec3 normal;     // unit, from i towards j
-  double overlap;  // [m]
-  Vec3 v_rel;      // velocity of i's contact point minus j's [m/s]
-  Vec3 omega_i, omega_j;
-  double arm_i, arm_j;
-  double r_star, m_star, inertia_r;
+// A batch of contacts (sphere-sphere or sphere-wall) on its way through the contact law:
+// the law's inputs in SoA form, and per contact what the rolling model, the torques and the
+// result slots need.
+struct LaneExtra {
+  std::size_t item;       // pair or wall-candidate index
+  double* history;        // tangential displacement, then the rolling model's values
+  Vec3 arm_i, arm_j;      // contact point minus each centre of mass [m]
+  Vec3 omega_i, omega_j;  // [rad/s]
+  double arm_i_len, arm_j_len, inertia_r, mu_r;
 };
 
-template <class Rolling>
-Vec3 contact_force(const ContactKinematics& k, const PairCoefficients& c, double dt, double* history,
-                   RollingOutput& rolling) {
-  const double v_n = dot(k.v_rel, k.normal);  // approach speed: i moves towards j
-  const Vec3 v_t = k.v_rel - v_n * k.normal;
-  double s_n = 0.0, root_s_n_m = 0.0;
-  const double f_n =
-      hertz_mindlin::normal_force(c.youngs_modulus, k.r_star, k.m_star, c.damping, k.overlap, v_n, s_n, root_s_n_m);
-  Vec3 xi = load3(history);
-  const Vec3 f_t = hertz_mindlin::tangential_force(k.normal, v_t, s_n, root_s_n_m, c.stiffness_ratio,
-                                                   c.root_stiffness_ratio, c.damping, f_n, c.static_friction, dt, xi);
-  store3(history, xi);
-  Vec3 spring = Rolling::history_size ? load3(history + 3) : Vec3{};
-  rolling = Rolling::torque(
-      {k.normal, k.omega_i, k.omega_j, k.arm_i, k.arm_j, k.r_star, f_n, s_n, c.rolling_friction, k.inertia_r, dt},
-      spring);
-  if constexpr (Rolling::history_size > 0) store3(history + 3, spring);
-  return -f_n * k.normal + f_t;
+struct Lanes {
+  ContactBatch batch;
+  std::array<LaneExtra, ContactBatch::capacity> extra;
+
+  void push(const Vec3& n, double overlap, const Vec3& v_rel, double r_star, double m_star, const PairCoefficients& c,
+            const LaneExtra& e) {
+    ContactBatch& b = batch;
+    const int k = b.size++;
+    b.nx[k] = n.x, b.ny[k] = n.y, b.nz[k] = n.z;
+    b.overlap[k] = overlap;
+    b.vx[k] = v_rel.x, b.vy[k] = v_rel.y, b.vz[k] = v_rel.z;
+    b.r_star[k] = r_star;
+    b.m_star[k] = m_star;
+    b.youngs_modulus[k] = c.youngs_modulus;
+    b.stiffness_ratio[k] = c.stiffness_ratio;
+    b.root_stiffness_ratio[k] = c.root_stiffness_ratio;
+    b.damping[k] = c.damping;
+    b.static_friction[k] = c.static_friction;
+    b.xi_x[k] = e.history[0], b.xi_y[k] = e.history[1], b.xi_z[k] = e.history[2];
+    extra[static_cast<std::size_t>(k)] = e;
+  }
+
+  // Solves the batch, updates the histories, applies rolling model R and hands each contact's
+  // force on side i and rolling output to `write`.
+  template <class Rolling, class Write>
+  void finish(double dt, Write&& write) {
+    ContactBatch& b = batch;
+    solve(b, dt);
+    for (int k = 0; k < b.size; ++k) {
+      const LaneExtra& e = extra[static_cast<std::size_t>(k)];
+      e.history[0] = b.xi_x[k], e.history[1] = b.xi_y[k], e.history[2] = b.xi_z[k];
+      Vec3 spring = Rolling::history_size ? load3(e.history + 3) : Vec3{};
+      const RollingOutput roll = Rolling::torque({{b.nx[k], b.ny[k], b.nz[k]},
+                                                  e.omega_i,
+                                                  e.omega_j,
+                                                  e.arm_i_len,
+                                                  e.arm_j_len,
+                                                  b.r_star[k],
+                                                  b.normal_force[k],
+                                                  b.normal_stiffness[k],
+                                                  e.mu_r,
+                                                  e.inertia_r,
+                                                  dt},
+                                                 spring);
+      if constexpr (Rolling::history_size > 0) store3(e.history + 3, spring);
+      write(e, Vec3{b.fx[k], b.fy[k], b.fz[k]}, roll);
+    }
+    b.size = 0;
+  }
+};
+
+// Runs `visit(item, lanes)` over items [0, n) in chunks of one batch, in parallel (a fixed,
+// static split: results do not depend on the thread count). `visit` pushes a touching item
+// and returns its overlap ratio, or returns a negative value; each full chunk is then solved
+// and written. Returns the largest overlap ratio and the number of touching items.
+template <class Rolling, class Visit, class Write>
+std::pair<double, std::size_t> for_each_contact(std::size_t n, double dt, Visit&& visit, Write&& write) {
+  double max_ratio = 0.0;
+  std::size_t touching = 0;
+  const auto chunks = static_cast<std::ptrdiff_t>((n + ContactBatch::capacity - 1) / ContactBatch::capacity);
+#pragma omp parallel reduction(max : max_ratio) reduction(+ : touching) if (static_cast <std::ptrdiff_t>(n) > \
+                                                                                parallel_threshold)
+  {
+    auto lanes = std::make_unique<Lanes>();
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+      const std::size_t begin = static_cast<std::size_t>(c) * ContactBatch::capacity;
+      for (std::size_t item = begin; item < std::min(n, begin + ContactBatch::capacity); ++item) {
+        const double ratio = visit(item, *lanes);
+        if (ratio >= 0.0) {
+          max_ratio = std::max(max_ratio, ratio);
+          ++touching;
+        }
+      }
+      lanes->template finish<Rolling>(dt, write);
+    }
+  }
+  return {max_ratio, touching};
 }
 
 }  // namespace
@@ -162,10 +224,12 @@ void Simulation::find_wall_candidates() {
   const double skin = neighbors_.skin();
   wall_start_.assign(n_s + 1, 0);
   wall_of_candidate_.clear();
+  sphere_of_candidate_.clear();
   for (std::size_t s = 0; s < n_s; ++s) {
     for (std::size_t w = 0; w < n_w; ++w) {
       if (clearance(walls_[w], ps.sphere_position[s], ps.radius[s]) < skin) {
         wall_of_candidate_.push_back(static_cast<std::uint32_t>(w));
+        sphere_of_candidate_.push_back(static_cast<std::uint32_t>(s));
       } else {  // out of reach: any history left is stale
         std::fill_n(wall_history_.data() + (s * n_w + w) * h, h, 0.0);
       }
@@ -198,14 +262,9 @@ void Simulation::compute_forces(const Rolling&) {
     active_build_ = neighbors_.builds();
   }
   const int h = neighbors_.history_size();
-  double max_ratio = 0.0;
-  std::size_t touching = 0;
 
   // --- sphere-sphere ------------------------------------------------------------------------
-  const auto np = static_cast<std::ptrdiff_t>(n_pairs);
-#pragma omp parallel for schedule(static) reduction(max : max_ratio) reduction(+ : touching) if (np > parallel_threshold)
-  for (std::ptrdiff_t sp = 0; sp < np; ++sp) {
-    const auto p = static_cast<std::size_t>(sp);
+  auto visit_pair = [&](std::size_t p, Lanes& lanes) -> double {
     const std::uint32_t i = neighbors_.first(p), j = neighbors_.second(p);
     double* hist = neighbors_.history(p);
     const Vec3 d = ps.sphere_position[j] - ps.sphere_position[i];
@@ -218,84 +277,73 @@ void Simulation::compute_forces(const Rolling&) {
         pair_cdt_i_[p] = pair_cdt_j_[p] = 0.0;
         pair_active_[p] = 0;
       }
-      continue;
+      return -1.0;
     }
     pair_active_[p] = 1;
-    ++touching;
     const double dist = std::sqrt(dist2);
     const Vec3 n = d / dist;
     const double overlap = ri + rj - dist;
-    max_ratio = std::max(max_ratio, overlap / std::min(ri, rj));
     const std::uint32_t bi = ps.owner[i], bj = ps.owner[j];
     const Vec3 c = ps.sphere_position[i] + (ri - 0.5 * overlap) * n;
     const Vec3 arm_i = c - ps.position[bi], arm_j = c - ps.position[bj];
     const Vec3 v_rel = ps.velocity[bi] + cross(ps.angular_velocity[bi], arm_i) - ps.velocity[bj] -
                        cross(ps.angular_velocity[bj], arm_j);
     const double mi = ps.mass[bi], mj = ps.mass[bj];
-    // A lone sphere's centre of mass is its centre: the arm is r - delta/2, no square root.
-    const double arm_i_len = ps.sphere_count[bi] == 1 ? ri - 0.5 * overlap : norm(arm_i);
-    const double arm_j_len = ps.sphere_count[bj] == 1 ? rj - 0.5 * overlap : norm(arm_j);
-    ContactKinematics k{n,
-                        overlap,
-                        v_rel,
-                        ps.angular_velocity[bi],
-                        ps.angular_velocity[bj],
-                        arm_i_len,
-                        arm_j_len,
-                        ri * rj / (ri + rj),
-                        mi * mj / (mi + mj),
-                        0.0};
+    const PairCoefficients& co = coefficients_(ps.species[i], ps.species[j]);
+    LaneExtra e{p, hist, arm_i, arm_j, ps.angular_velocity[bi], ps.angular_velocity[bj],
+                // A lone sphere's centre of mass is its centre: the arm is r - delta/2, no square root.
+                ps.sphere_count[bi] == 1 ? ri - 0.5 * overlap : norm(arm_i),
+                ps.sphere_count[bj] == 1 ? rj - 0.5 * overlap : norm(arm_j), 0.0, co.rolling_friction};
     if constexpr (std::is_same_v<Rolling, EpsdRolling>) {
-      const double ii = min_moment(ps.inertia[bi]) + mi * k.arm_i * k.arm_i;
-      const double ij = min_moment(ps.inertia[bj]) + mj * k.arm_j * k.arm_j;
-      k.inertia_r = ii * ij / (ii + ij);
+      const double ii = min_moment(ps.inertia[bi]) + mi * e.arm_i_len * e.arm_i_len;
+      const double ij = min_moment(ps.inertia[bj]) + mj * e.arm_j_len * e.arm_j_len;
+      e.inertia_r = ii * ij / (ii + ij);
     }
-    RollingOutput roll;
-    const Vec3 f = contact_force<Rolling>(k, coefficients_(ps.species[i], ps.species[j]), dt, hist, roll);
-    pair_force_[p] = f;
-    pair_torque_i_[p] = cross(arm_i, f) + roll.torque_i;
-    pair_torque_j_[p] = cross(arm_j, -f) + roll.torque_j;
-    pair_cdt_i_[p] = roll.cdt_i;
-    pair_cdt_j_[p] = roll.cdt_j;
-  }
+    lanes.push(n, overlap, v_rel, ri * rj / (ri + rj), mi * mj / (mi + mj), co, e);
+    return overlap / std::min(ri, rj);
+  };
+  auto write_pair = [&](const LaneExtra& e, const Vec3& f, const RollingOutput& roll) {
+    pair_force_[e.item] = f;
+    pair_torque_i_[e.item] = cross(e.arm_i, f) + roll.torque_i;
+    pair_torque_j_[e.item] = cross(e.arm_j, -f) + roll.torque_j;
+    pair_cdt_i_[e.item] = roll.cdt_i;
+    pair_cdt_j_[e.item] = roll.cdt_j;
+  };
+  const auto [pair_ratio, touching] = for_each_contact<Rolling>(n_pairs, dt, visit_pair, write_pair);
 
   // --- sphere-wall, over the candidates -------------------------------------------------------
   const std::size_t n_w = walls_.size();
   const std::size_t n_types = ps.types().size();
-  const auto ns = static_cast<std::ptrdiff_t>(ps.spheres());
-#pragma omp parallel for schedule(static) reduction(max : max_ratio) if (ns > parallel_threshold)
-  for (std::ptrdiff_t ss = 0; ss < ns; ++ss) {
-    const auto s = static_cast<std::size_t>(ss);
+  auto visit_wall = [&](std::size_t cw, Lanes& lanes) -> double {
+    const std::uint32_t s = sphere_of_candidate_[cw], w = wall_of_candidate_[cw];
     const std::uint32_t b = ps.owner[s];
-    for (std::uint32_t cw = wall_start_[s]; cw < wall_start_[s + 1]; ++cw) {
-      const std::uint32_t w = wall_of_candidate_[cw];
-      double* hist = wall_history_.data() + (s * n_w + w) * static_cast<std::size_t>(h);
-      Vec3* reaction = wall_reaction_.data() + 2 * std::size_t{cw};
-      const WallTouch t = touch(walls_[w], ps.sphere_position[s], ps.radius[s]);
-      if (!t.touching) {
-        if (std::any_of(hist, hist + h, [](double v) { return v != 0.0; })) std::fill_n(hist, h, 0.0);
-        wall_force_[cw] = wall_torque_[cw] = reaction[0] = reaction[1] = Vec3{};
-        wall_cdt_[cw] = 0.0;
-        continue;
-      }
-      max_ratio = std::max(max_ratio, t.overlap / ps.radius[s]);
-      const Vec3 arm = t.point - ps.position[b];
-      const Vec3 v_rel = ps.velocity[b] + cross(ps.angular_velocity[b], arm);  // walls are still
-      const double arm_len = norm(arm);
-      ContactKinematics k{t.normal,   t.overlap,
-                          v_rel,      ps.angular_velocity[b],
-                          Vec3{},     arm_len,
-                          0.0,        ps.radius[s],
-                          ps.mass[b], min_moment(ps.inertia[b]) + ps.mass[b] * arm_len * arm_len};
-      RollingOutput roll;
-      const Vec3 f = contact_force<Rolling>(k, coefficients_(ps.species[s], n_types + w), dt, hist, roll);
-      wall_force_[cw] = f;
-      wall_torque_[cw] = cross(arm, f) + roll.torque_i;
-      wall_cdt_[cw] = roll.cdt_i;
-      reaction[0] = -f;
-      reaction[1] = cross(t.point, -f) - roll.torque_i;
+    double* hist = wall_history_.data() + (s * n_w + w) * static_cast<std::size_t>(h);
+    const WallTouch t = touch(walls_[w], ps.sphere_position[s], ps.radius[s]);
+    if (!t.touching) {
+      if (std::any_of(hist, hist + h, [](double v) { return v != 0.0; })) std::fill_n(hist, h, 0.0);
+      wall_force_[cw] = wall_torque_[cw] = wall_reaction_[2 * cw] = wall_reaction_[2 * cw + 1] = Vec3{};
+      wall_cdt_[cw] = 0.0;
+      return -1.0;
     }
-  }
+    const Vec3 arm = t.point - ps.position[b];
+    const Vec3 v_rel = ps.velocity[b] + cross(ps.angular_velocity[b], arm);  // walls are still
+    const double arm_len = norm(arm);
+    const PairCoefficients& co = coefficients_(ps.species[s], n_types + w);
+    // The wall side's arm holds the contact point, for the reaction's torque about the origin.
+    lanes.push(t.normal, t.overlap, v_rel, ps.radius[s], ps.mass[b], co,
+               {cw, hist, arm, t.point, ps.angular_velocity[b], Vec3{}, arm_len, 0.0,
+                min_moment(ps.inertia[b]) + ps.mass[b] * arm_len * arm_len, co.rolling_friction});
+    return t.overlap / ps.radius[s];
+  };
+  auto write_wall = [&](const LaneExtra& e, const Vec3& f, const RollingOutput& roll) {
+    wall_force_[e.item] = f;
+    wall_torque_[e.item] = cross(e.arm_i, f) + roll.torque_i;
+    wall_cdt_[e.item] = roll.cdt_i;
+    wall_reaction_[2 * e.item] = -f;
+    wall_reaction_[2 * e.item + 1] = cross(e.arm_j, -f) - roll.torque_i;
+  };
+  const double wall_ratio = for_each_contact<Rolling>(wall_of_candidate_.size(), dt, visit_wall, write_wall).first;
+  const double max_ratio = std::max(pair_ratio, wall_ratio);
   sum_wall_reactions();
 
   // --- gather onto bodies, in a fixed order -------------------------------------------------

@@ -89,7 +89,7 @@ class Simulation {
   // sphere-wall: history dense over [(s * walls + w) * h]; candidates (spheres within the
   // skin of a wall at the last build) grouped by sphere (CSR), with their results
   std::vector<double> wall_history_;
-  std::vector<std::uint32_t> wall_start_, wall_of_candidate_;
+  std::vector<std::uint32_t> wall_start_, wall_of_candidate_, sphere_of_candidate_;
   std::vector<Vec3> wall_force_, wall_torque_;  // on the sphere's body [N], [N m]
   std::vector<double> wall_cdt_;                // CDT magnitude on the sphere's body [N m]
   std::vector<Vec3> wall_reaction_;             // [2 c]: force on the wall, its torque about the origin
