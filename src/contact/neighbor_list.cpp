@@ -141,19 +141,18 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
   key_ = std::move(key);
   history_ = std::move(history);
 
-  // --- incident pairs per element (CSR, ascending pair index) ------------------------------
-  incident_start_.assign(n + 1, 0);
+  // --- pairs by first element (contiguous) and by second element (CSR) ---------------------
+  first_start_.assign(n + 1, 0);
+  second_start_.assign(n + 1, 0);
   for (std::size_t p = 0; p < first_.size(); ++p) {
-    ++incident_start_[first_[p] + 1];
-    ++incident_start_[second_[p] + 1];
+    ++first_start_[first_[p] + 1];
+    ++second_start_[second_[p] + 1];
   }
-  std::partial_sum(incident_start_.begin(), incident_start_.end(), incident_start_.begin());
-  incident_.resize(2 * first_.size());
-  std::vector<std::uint32_t> fill(incident_start_.begin(), incident_start_.end() - 1);
-  for (std::size_t p = 0; p < first_.size(); ++p) {
-    incident_[fill[first_[p]]++] = static_cast<std::uint32_t>(p);
-    incident_[fill[second_[p]]++] = static_cast<std::uint32_t>(p);
-  }
+  std::partial_sum(first_start_.begin(), first_start_.end(), first_start_.begin());
+  std::partial_sum(second_start_.begin(), second_start_.end(), second_start_.begin());
+  as_second_.resize(first_.size());
+  std::vector<std::uint32_t> fill(second_start_.begin(), second_start_.end() - 1);
+  for (std::size_t p = 0; p < first_.size(); ++p) as_second_[fill[second_[p]]++] = static_cast<std::uint32_t>(p);
 
   reference_.assign(position.begin(), position.end());
   ++builds_;

@@ -26,7 +26,9 @@ bool is_isotropic(const Vec3& i) { return i.x == i.y && i.y == i.z; }
 // the law's inputs in SoA form, and per contact what the rolling model, the torques and the
 // result slots need.
 struct LaneExtra {
-  std::size_t item;       // pair or wall-candidate index
+  std::uint32_t element;  // the element on side i, whose own sums take the force
+  std::uint32_t item;     // pair index, or wall-candidate index
+  bool wall;              // a sphere-wall contact (side j is the wall)
   double* history;        // tangential displacement, then the rolling model's values
   Vec3 arm_i, arm_j;      // contact point minus each centre of mass [m]
   Vec3 omega_i, omega_j;  // [rad/s]
@@ -37,8 +39,13 @@ struct Lanes {
   ContactBatch batch;
   std::array<LaneExtra, ContactBatch::capacity> extra;
 
-  void push(const Vec3& n, double overlap, const Vec3& v_rel, double r_star, double m_star, const PairCoefficients& c,
-            const LaneExtra& e) {
+  bool full() const { return batch.size == ContactBatch::capacity; }
+
+  // The next contact's extra fields, filled in place (copying a whole LaneExtra stalls).
+  LaneExtra& next() { return extra[static_cast<std::size_t>(batch.size)]; }
+  // Adds the next contact; its extra fields must be filled already. The tangential
+  // displacement is read from its history.
+  void push(const Vec3& n, double overlap, const Vec3& v_rel, double r_star, double m_star, const PairCoefficients& c) {
     ContactBatch& b = batch;
     const int k = b.size++;
     b.nx[k] = n.x, b.ny[k] = n.y, b.nz[k] = n.z;
@@ -51,8 +58,8 @@ struct Lanes {
     b.root_stiffness_ratio[k] = c.root_stiffness_ratio;
     b.damping[k] = c.damping;
     b.static_friction[k] = c.static_friction;
-    b.xi_x[k] = e.history[0], b.xi_y[k] = e.history[1], b.xi_z[k] = e.history[2];
-    extra[static_cast<std::size_t>(k)] = e;
+    const double* history = extra[static_cast<std::size_t>(k)].history;
+    b.xi_x[k] = history[0], b.xi_y[k] = history[1], b.xi_z[k] = history[2];
   }
 
   // Solves the batch, updates the histories, applies rolling model R and hands each contact's
@@ -83,35 +90,6 @@ struct Lanes {
     b.size = 0;
   }
 };
-
-// Runs `visit(item, lanes)` over items [0, n) in chunks of one batch, in parallel (a fixed,
-// static split: results do not depend on the thread count). `visit` pushes a touching item
-// and returns its overlap ratio, or returns a negative value; each full chunk is then solved
-// and written. Returns the largest overlap ratio and the number of touching items.
-template <class Rolling, class Visit, class Write>
-std::pair<double, std::size_t> for_each_contact(std::size_t n, double dt, Visit&& visit, Write&& write) {
-  double max_ratio = 0.0;
-  std::size_t touching = 0;
-  const auto chunks = static_cast<std::ptrdiff_t>((n + ContactBatch::capacity - 1) / ContactBatch::capacity);
-#pragma omp parallel reduction(max : max_ratio) reduction(+ : touching) if (static_cast <std::ptrdiff_t>(n) > \
-                                                                                parallel_threshold)
-  {
-    auto lanes = std::make_unique<Lanes>();
-#pragma omp for schedule(static)
-    for (std::ptrdiff_t c = 0; c < chunks; ++c) {
-      const std::size_t begin = static_cast<std::size_t>(c) * ContactBatch::capacity;
-      for (std::size_t item = begin; item < std::min(n, begin + ContactBatch::capacity); ++item) {
-        const double ratio = visit(item, *lanes);
-        if (ratio >= 0.0) {
-          max_ratio = std::max(max_ratio, ratio);
-          ++touching;
-        }
-      }
-      lanes->template finish<Rolling>(dt, write);
-    }
-  }
-  return {max_ratio, touching};
-}
 
 }  // namespace
 
@@ -172,6 +150,9 @@ void Simulation::prepare() {
   const std::size_t h = static_cast<std::size_t>(neighbors_.history_size());
   const std::size_t n_s = particles_.spheres(), n_w = walls_.size();
   wall_history_.resize(n_s * n_w * h, 0.0);  // new elements append their (zero) history
+  element_force_.resize(n_s);
+  element_torque_.resize(n_s);
+  element_cdt_.resize(n_s);
   particles_.update_sphere_positions();
 }
 
@@ -213,6 +194,7 @@ void Simulation::rebuild() {
   const auto& ps = particles_;
   neighbors_.build(ps.sphere_position, ps.radius, ps.owner, ps.sphere_id);
   find_wall_candidates();
+  split_into_chunks();
 }
 
 void Simulation::find_wall_candidates() {
@@ -236,12 +218,23 @@ void Simulation::find_wall_candidates() {
     }
     wall_start_[s + 1] = static_cast<std::uint32_t>(wall_of_candidate_.size());
   }
-  const std::size_t n_c = wall_of_candidate_.size();
-  wall_force_.assign(n_c, Vec3{});
-  wall_torque_.assign(n_c, Vec3{});
-  wall_cdt_.assign(n_c, 0.0);
-  wall_reaction_.assign(2 * n_c, Vec3{});
+  wall_reaction_.assign(2 * wall_of_candidate_.size(), Vec3{});
   walls_changed_ = false;
+}
+
+void Simulation::split_into_chunks() {
+  // Runs of whole elements with about one batch of pairs and wall candidates each: a fixed
+  // split (the thread count plays no part), and each element's own sums stay in one chunk.
+  const std::size_t n_s = particles_.spheres();
+  chunk_start_.assign(1, 0);
+  std::size_t load = 0;
+  for (std::size_t s = 0; s < n_s; ++s) {
+    load += neighbors_.begin_of(s + 1) - neighbors_.begin_of(s) + wall_start_[s + 1] - wall_start_[s];
+    if (load >= ContactBatch::capacity || s + 1 == n_s) {
+      chunk_start_.push_back(static_cast<std::uint32_t>(s + 1));
+      load = 0;
+    }
+  }
 }
 
 template <class Rolling>
@@ -250,20 +243,21 @@ void Simulation::compute_forces(const Rolling&) {
   const double dt = settings_.dt;
   const std::size_t n_pairs = neighbors_.pairs();
   pair_force_.resize(n_pairs);
-  pair_torque_i_.resize(n_pairs);
   pair_torque_j_.resize(n_pairs);
-  pair_cdt_i_.resize(n_pairs);
   pair_cdt_j_.resize(n_pairs);
   if (neighbors_.builds() != active_build_) {
     // A new list: every pair counts as touching once, so that where it does not, its history
-    // and outputs are zeroed; from then on only pairs whose contact ends write zeros, and the
+    // and slot are zeroed; from then on only pairs whose contact ends write zeros, and the
     // gather reads every pair without a (badly predicted) branch.
     pair_active_.assign(n_pairs, 1);
     active_build_ = neighbors_.builds();
   }
   const int h = neighbors_.history_size();
+  const std::size_t n_w = walls_.size();
+  const std::size_t n_types = ps.types().size();
 
-  // --- sphere-sphere ------------------------------------------------------------------------
+  // A touching pair goes into the batch with side i = its first element; returns its
+  // overlap ratio, or -1 if it does not touch.
   auto visit_pair = [&](std::size_t p, Lanes& lanes) -> double {
     const std::uint32_t i = neighbors_.first(p), j = neighbors_.second(p);
     double* hist = neighbors_.history(p);
@@ -271,10 +265,10 @@ void Simulation::compute_forces(const Rolling&) {
     const double ri = ps.radius[i], rj = ps.radius[j];
     const double dist2 = norm2(d);
     if (dist2 >= (ri + rj) * (ri + rj)) {
-      if (pair_active_[p]) {  // contact over: history starts afresh, outputs read as zero
+      if (pair_active_[p]) {  // contact over: history starts afresh, the slot reads as zero
         std::fill_n(hist, h, 0.0);
-        pair_force_[p] = pair_torque_i_[p] = pair_torque_j_[p] = Vec3{};
-        pair_cdt_i_[p] = pair_cdt_j_[p] = 0.0;
+        pair_force_[p] = pair_torque_j_[p] = Vec3{};
+        pair_cdt_j_[p] = 0.0;
         pair_active_[p] = 0;
       }
       return -1.0;
@@ -290,30 +284,29 @@ void Simulation::compute_forces(const Rolling&) {
                        cross(ps.angular_velocity[bj], arm_j);
     const double mi = ps.mass[bi], mj = ps.mass[bj];
     const PairCoefficients& co = coefficients_(ps.species[i], ps.species[j]);
-    LaneExtra e{p, hist, arm_i, arm_j, ps.angular_velocity[bi], ps.angular_velocity[bj],
-                // A lone sphere's centre of mass is its centre: the arm is r - delta/2, no square root.
-                ps.sphere_count[bi] == 1 ? ri - 0.5 * overlap : norm(arm_i),
-                ps.sphere_count[bj] == 1 ? rj - 0.5 * overlap : norm(arm_j), 0.0, co.rolling_friction};
+    LaneExtra& e = lanes.next();
+    e.element = i;
+    e.item = static_cast<std::uint32_t>(p);
+    e.wall = false;
+    e.history = hist;
+    e.arm_i = arm_i;
+    e.arm_j = arm_j;
+    e.omega_i = ps.angular_velocity[bi];
+    e.omega_j = ps.angular_velocity[bj];
+    // A lone sphere's centre of mass is its centre: the arm is r - delta/2, no square root.
+    e.arm_i_len = ps.sphere_count[bi] == 1 ? ri - 0.5 * overlap : norm(arm_i);
+    e.arm_j_len = ps.sphere_count[bj] == 1 ? rj - 0.5 * overlap : norm(arm_j);
+    e.inertia_r = 0.0;
+    e.mu_r = co.rolling_friction;
     if constexpr (std::is_same_v<Rolling, EpsdRolling>) {
       const double ii = min_moment(ps.inertia[bi]) + mi * e.arm_i_len * e.arm_i_len;
       const double ij = min_moment(ps.inertia[bj]) + mj * e.arm_j_len * e.arm_j_len;
       e.inertia_r = ii * ij / (ii + ij);
     }
-    lanes.push(n, overlap, v_rel, ri * rj / (ri + rj), mi * mj / (mi + mj), co, e);
+    lanes.push(n, overlap, v_rel, ri * rj / (ri + rj), mi * mj / (mi + mj), co);
     return overlap / std::min(ri, rj);
   };
-  auto write_pair = [&](const LaneExtra& e, const Vec3& f, const RollingOutput& roll) {
-    pair_force_[e.item] = f;
-    pair_torque_i_[e.item] = cross(e.arm_i, f) + roll.torque_i;
-    pair_torque_j_[e.item] = cross(e.arm_j, -f) + roll.torque_j;
-    pair_cdt_i_[e.item] = roll.cdt_i;
-    pair_cdt_j_[e.item] = roll.cdt_j;
-  };
-  const auto [pair_ratio, touching] = for_each_contact<Rolling>(n_pairs, dt, visit_pair, write_pair);
-
-  // --- sphere-wall, over the candidates -------------------------------------------------------
-  const std::size_t n_w = walls_.size();
-  const std::size_t n_types = ps.types().size();
+  // The same for a wall candidate, side i = the sphere.
   auto visit_wall = [&](std::size_t cw, Lanes& lanes) -> double {
     const std::uint32_t s = sphere_of_candidate_[cw], w = wall_of_candidate_[cw];
     const std::uint32_t b = ps.owner[s];
@@ -321,29 +314,76 @@ void Simulation::compute_forces(const Rolling&) {
     const WallTouch t = touch(walls_[w], ps.sphere_position[s], ps.radius[s]);
     if (!t.touching) {
       if (std::any_of(hist, hist + h, [](double v) { return v != 0.0; })) std::fill_n(hist, h, 0.0);
-      wall_force_[cw] = wall_torque_[cw] = wall_reaction_[2 * cw] = wall_reaction_[2 * cw + 1] = Vec3{};
-      wall_cdt_[cw] = 0.0;
+      wall_reaction_[2 * cw] = wall_reaction_[2 * cw + 1] = Vec3{};
       return -1.0;
     }
     const Vec3 arm = t.point - ps.position[b];
     const Vec3 v_rel = ps.velocity[b] + cross(ps.angular_velocity[b], arm);  // walls are still
     const double arm_len = norm(arm);
     const PairCoefficients& co = coefficients_(ps.species[s], n_types + w);
-    // The wall side's arm holds the contact point, for the reaction's torque about the origin.
-    lanes.push(t.normal, t.overlap, v_rel, ps.radius[s], ps.mass[b], co,
-               {cw, hist, arm, t.point, ps.angular_velocity[b], Vec3{}, arm_len, 0.0,
-                min_moment(ps.inertia[b]) + ps.mass[b] * arm_len * arm_len, co.rolling_friction});
+    LaneExtra& e = lanes.next();
+    e.element = s;
+    e.item = static_cast<std::uint32_t>(cw);
+    e.wall = true;
+    e.history = hist;
+    e.arm_i = arm;
+    e.arm_j = t.point;  // for the reaction's torque about the origin
+    e.omega_i = ps.angular_velocity[b];
+    e.omega_j = Vec3{};
+    e.arm_i_len = arm_len;
+    e.arm_j_len = 0.0;
+    e.inertia_r = min_moment(ps.inertia[b]) + ps.mass[b] * arm_len * arm_len;
+    e.mu_r = co.rolling_friction;
+    lanes.push(t.normal, t.overlap, v_rel, ps.radius[s], ps.mass[b], co);
     return t.overlap / ps.radius[s];
   };
-  auto write_wall = [&](const LaneExtra& e, const Vec3& f, const RollingOutput& roll) {
-    wall_force_[e.item] = f;
-    wall_torque_[e.item] = cross(e.arm_i, f) + roll.torque_i;
-    wall_cdt_[e.item] = roll.cdt_i;
-    wall_reaction_[2 * e.item] = -f;
-    wall_reaction_[2 * e.item + 1] = cross(e.arm_j, -f) - roll.torque_i;
+  // Side i adds to its element's own sums (in pair order, then walls); side j's share goes to
+  // the pair's slot, or to the wall's reaction.
+  auto write = [&](const LaneExtra& e, const Vec3& f, const RollingOutput& roll) {
+    element_force_[e.element] += f;
+    element_torque_[e.element] += cross(e.arm_i, f) + roll.torque_i;
+    element_cdt_[e.element] += roll.cdt_i;
+    if (e.wall) {
+      wall_reaction_[2 * std::size_t{e.item}] = -f;
+      wall_reaction_[2 * std::size_t{e.item} + 1] = cross(e.arm_j, -f) - roll.torque_i;
+    } else {
+      pair_force_[e.item] = f;
+      pair_torque_j_[e.item] = cross(e.arm_j, -f) + roll.torque_j;
+      pair_cdt_j_[e.item] = roll.cdt_j;
+    }
   };
-  const double wall_ratio = for_each_contact<Rolling>(wall_of_candidate_.size(), dt, visit_wall, write_wall).first;
-  const double max_ratio = std::max(pair_ratio, wall_ratio);
+
+  // --- contacts, per chunk of elements: their pairs (as first element), then their walls ---
+  double max_ratio = 0.0;
+  std::size_t touching = 0;
+  const auto n_chunks = static_cast<std::ptrdiff_t>(chunk_start_.size()) - 1;
+#pragma omp parallel reduction(max : max_ratio) reduction(+ : touching) if (static_cast <std::ptrdiff_t>(ps.spheres()) > \
+                                                                                parallel_threshold)
+  {
+    auto lanes = std::make_unique<Lanes>();
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t c = 0; c < n_chunks; ++c) {
+      const std::uint32_t e0 = chunk_start_[static_cast<std::size_t>(c)];
+      const std::uint32_t e1 = chunk_start_[static_cast<std::size_t>(c) + 1];
+      std::fill(element_force_.begin() + e0, element_force_.begin() + e1, Vec3{});
+      std::fill(element_torque_.begin() + e0, element_torque_.begin() + e1, Vec3{});
+      std::fill(element_cdt_.begin() + e0, element_cdt_.begin() + e1, 0.0);
+      for (std::size_t p = neighbors_.begin_of(e0); p < neighbors_.begin_of(e1); ++p) {
+        const double ratio = visit_pair(p, *lanes);
+        if (ratio < 0.0) continue;
+        max_ratio = std::max(max_ratio, ratio);
+        ++touching;
+        if (lanes->full()) lanes->template finish<Rolling>(dt, write);
+      }
+      for (std::size_t cw = wall_start_[e0]; cw < wall_start_[e1]; ++cw) {
+        const double ratio = visit_wall(cw, *lanes);
+        if (ratio < 0.0) continue;
+        max_ratio = std::max(max_ratio, ratio);
+        if (lanes->full()) lanes->template finish<Rolling>(dt, write);
+      }
+      lanes->template finish<Rolling>(dt, write);
+    }
+  }
   sum_wall_reactions();
 
   // --- gather onto bodies, in a fixed order -------------------------------------------------
@@ -355,21 +395,13 @@ void Simulation::compute_forces(const Rolling&) {
     Vec3 f = ps.mass[b] * g, t;
     double cdt = 0.0;
     for (std::uint32_t s = ps.first_sphere[b]; s < ps.first_sphere[b] + ps.sphere_count[b]; ++s) {
-      for (const std::uint32_t p : neighbors_.pairs_of(s)) {
-        if (neighbors_.first(p) == s) {
-          f += pair_force_[p];
-          t += pair_torque_i_[p];
-          cdt += pair_cdt_i_[p];
-        } else {
-          f -= pair_force_[p];
-          t += pair_torque_j_[p];
-          cdt += pair_cdt_j_[p];
-        }
-      }
-      for (std::uint32_t cw = wall_start_[s]; cw < wall_start_[s + 1]; ++cw) {
-        f += wall_force_[cw];
-        t += wall_torque_[cw];
-        cdt += wall_cdt_[cw];
+      f += element_force_[s];
+      t += element_torque_[s];
+      cdt += element_cdt_[s];
+      for (const std::uint32_t p : neighbors_.pairs_as_second(s)) {
+        f -= pair_force_[p];
+        t += pair_torque_j_[p];
+        cdt += pair_cdt_j_[p];
       }
     }
     ps.force[b] = f;

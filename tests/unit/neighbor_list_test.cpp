@@ -57,22 +57,25 @@ TEST(NeighborList, MatchesBruteForce) {
   }
 }
 
-TEST(NeighborList, IncidentPairsListEveryPairTwiceInOrder) {
+TEST(NeighborList, PairsGroupedByFirstAndIndexedBySecond) {
   const Cloud c = random_cloud(300, 7);
   NeighborList list(0.4e-3, 0);
   list.build(c.position, c.radius, c.owner, c.id);
-  std::size_t total = 0;
+  std::size_t as_second = 0;
+  EXPECT_EQ(list.begin_of(0), 0u);
+  EXPECT_EQ(list.begin_of(c.position.size()), list.pairs());
   for (std::size_t e = 0; e < c.position.size(); ++e) {
-    const auto pairs = list.pairs_of(e);
+    for (std::size_t p = list.begin_of(e); p < list.begin_of(e + 1); ++p) EXPECT_EQ(list.first(p), e);
+    const auto pairs = list.pairs_as_second(e);
     for (std::size_t k = 0; k < pairs.size(); ++k) {
-      EXPECT_TRUE(list.first(pairs[k]) == e || list.second(pairs[k]) == e);
+      EXPECT_EQ(list.second(pairs[k]), e);
       if (k > 0) {
         EXPECT_LT(pairs[k - 1], pairs[k]);
       }
     }
-    total += pairs.size();
+    as_second += pairs.size();
   }
-  EXPECT_EQ(total, 2 * list.pairs());
+  EXPECT_EQ(as_second, list.pairs());
 }
 
 TEST(NeighborList, HistorySurvivesRebuildAndRenumbering) {

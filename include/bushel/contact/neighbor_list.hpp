@@ -38,10 +38,14 @@ class NeighborList {
   double skin() const { return skin_; }
   std::size_t builds() const { return builds_; }
 
-  /// Pair indices touching each element, in ascending pair order (CSR): the fixed order in
-  /// which forces are gathered, whatever the thread count.
-  std::span<const std::uint32_t> pairs_of(std::size_t element) const {
-    return {incident_.data() + incident_start_[element], incident_start_[element + 1] - incident_start_[element]};
+  /// Pairs are stored grouped by their first element: those of element i are the
+  /// contiguous indices [begin_of(i), begin_of(i + 1)), so one thread can sum their forces on
+  /// i without sharing it.
+  std::size_t begin_of(std::size_t element) const { return first_start_[element]; }
+  /// Indices of the pairs whose second element is `element`, ascending (CSR): the fixed order
+  /// in which their forces on it are gathered, whatever the thread count.
+  std::span<const std::uint32_t> pairs_as_second(std::size_t element) const {
+    return {as_second_.data() + second_start_[element], second_start_[element + 1] - second_start_[element]};
   }
 
  private:
@@ -52,8 +56,9 @@ class NeighborList {
   std::vector<std::uint32_t> first_, second_;
   std::vector<std::uint64_t> key_;  // stable pair identity, min id << 32 | max id
   std::vector<double> history_;
-  std::vector<std::uint32_t> incident_start_, incident_;
-  std::vector<std::vector<std::uint32_t>> partners_;  // build scratch: candidates of each element
+  std::vector<std::uint32_t> first_start_;               // CSR over first elements
+  std::vector<std::uint32_t> second_start_, as_second_;  // CSR of pair indices by second element
+  std::vector<std::vector<std::uint32_t>> partners_;     // build scratch: candidates of each element
 };
 
 }  // namespace bushel

@@ -2,11 +2,13 @@
 // The time stepper: particles, walls, contact laws and the neighbour list brought together
 // (ARCHITECTURE.md, "Time step"). One step:
 //   1. rebuild the neighbour list if needed (spatially sorting the particles every few builds)
-//   2. sphere-sphere contacts, in parallel over pairs, each pair writing its own slot
-//   3. sphere-wall contacts, in parallel over the sphere-wall pairs found near at the last
-//      neighbour-list build
-//   4. gather forces and torques onto bodies in a fixed order (thread-count independent)
-//   5. integrate (symplectic Euler or velocity Verlet; quaternion rigid rotation)
+//   2. contacts, in parallel over fixed runs of elements (each about one batch of 64
+//      contacts): every element sums its own pairs (as first element) and its nearby walls;
+//      the share of each pair's second element goes to the pair's slot. The contact law runs
+//      over the batch at once (contact_batch.hpp).
+//   3. gather onto bodies in a fixed order (thread-count independent): the elements' own
+//      sums plus the slots of pairs in which they are second
+//   4. integrate (symplectic Euler or velocity Verlet; quaternion rigid rotation)
 
 #include <cstdint>
 #include <string>
@@ -63,6 +65,7 @@ class Simulation {
   void prepare();
   void rebuild();
   void find_wall_candidates();
+  void split_into_chunks();
   void spatial_sort();
   template <class Rolling>
   void compute_forces(const Rolling&);
@@ -81,20 +84,23 @@ class Simulation {
   bool forces_valid_ = false;
   bool neighbors_configured_ = false;
 
-  // per pair results of the last force computation
-  std::vector<Vec3> pair_force_, pair_torque_i_, pair_torque_j_;
-  std::vector<double> pair_cdt_i_, pair_cdt_j_;
+  // per pair: the reaction on the second element from the last force computation
+  std::vector<Vec3> pair_force_;           // force on the first element (the second gets minus this) [N]
+  std::vector<Vec3> pair_torque_j_;        // torque on the second element's body [N m]
+  std::vector<double> pair_cdt_j_;         // CDT magnitude on the second element's body [N m]
   std::vector<std::uint8_t> pair_active_;  // 1 while the pair touches (or may: fresh list)
   std::size_t active_build_ = 0;           // neighbour-list build the flags belong to
+  // per element: its own sums over its pairs (as first element) and its walls
+  std::vector<Vec3> element_force_, element_torque_;
+  std::vector<double> element_cdt_;
+  std::vector<std::uint32_t> chunk_start_;  // elements split into runs of about one batch of contacts
   // sphere-wall: history dense over [(s * walls + w) * h]; candidates (spheres within the
   // skin of a wall at the last build) grouped by sphere (CSR), with their results
   std::vector<double> wall_history_;
   std::vector<std::uint32_t> wall_start_, wall_of_candidate_, sphere_of_candidate_;
-  std::vector<Vec3> wall_force_, wall_torque_;  // on the sphere's body [N], [N m]
-  std::vector<double> wall_cdt_;                // CDT magnitude on the sphere's body [N m]
-  std::vector<Vec3> wall_reaction_;             // [2 c]: force on the wall, its torque about the origin
-  std::vector<Vec3> wall_partial_;              // per-chunk sums of wall_reaction_
-  bool walls_changed_ = true;                   // the candidates must be found again
+  std::vector<Vec3> wall_reaction_;  // [2 c]: force on the wall, its torque about the origin
+  std::vector<Vec3> wall_partial_;   // per-chunk sums of wall_reaction_
+  bool walls_changed_ = true;        // the candidates must be found again
 
   double time_ = 0.0;
   std::uint64_t steps_ = 0;
