@@ -31,7 +31,7 @@ struct LaneExtra {
   bool wall;              // a sphere-wall contact (side j is the wall)
   double* history;        // tangential displacement, then the rolling model's values
   Vec3 arm_i, arm_j;      // contact point minus each centre of mass [m]
-  Vec3 omega_i, omega_j;  // [rad/s]
+  Vec3 omega_i, omega_j;  // [rad/s], set only for rolling models that use them
   double arm_i_len, arm_j_len, inertia_r, mu_r;
 };
 
@@ -291,8 +291,10 @@ void Simulation::compute_forces(const Rolling&) {
     e.history = hist;
     e.arm_i = arm_i;
     e.arm_j = arm_j;
-    e.omega_i = ps.angular_velocity[bi];
-    e.omega_j = ps.angular_velocity[bj];
+    if constexpr (Rolling::uses_spin) {
+      e.omega_i = ps.angular_velocity[bi];
+      e.omega_j = ps.angular_velocity[bj];
+    }
     // A lone sphere's centre of mass is its centre: the arm is r - delta/2, no square root.
     e.arm_i_len = ps.sphere_count[bi] == 1 ? ri - 0.5 * overlap : norm(arm_i);
     e.arm_j_len = ps.sphere_count[bj] == 1 ? rj - 0.5 * overlap : norm(arm_j);
@@ -328,8 +330,10 @@ void Simulation::compute_forces(const Rolling&) {
     e.history = hist;
     e.arm_i = arm;
     e.arm_j = t.point;  // for the reaction's torque about the origin
-    e.omega_i = ps.angular_velocity[b];
-    e.omega_j = Vec3{};
+    if constexpr (Rolling::uses_spin) {
+      e.omega_i = ps.angular_velocity[b];
+      e.omega_j = Vec3{};
+    }
     e.arm_i_len = arm_len;
     e.arm_j_len = 0.0;
     e.inertia_r = min_moment(ps.inertia[b]) + ps.mass[b] * arm_len * arm_len;

@@ -1,6 +1,6 @@
 #pragma once
 // Rolling resistance sub-models (physics.md section 2, "Rolling resistance"). Each declares
-// its name and how many history values it keeps; the pair loop is compiled once per model
+// its name, how many history values it keeps and whether it reads the spins; the pair loop is compiled once per model
 // (no virtual call per contact). To add a model: write a struct like these and list it in
 // RollingModel (contact_model.hpp).
 
@@ -35,6 +35,7 @@ struct RollingOutput {
 struct NoRolling {
   static constexpr const char* name = "none";
   static constexpr int history_size = 0;
+  static constexpr bool uses_spin = false;  ///< reads omega_i, omega_j
   static RollingOutput torque(const RollingInput&, Vec3&) { return {}; }
 };
 
@@ -45,6 +46,7 @@ struct NoRolling {
 struct CdtRolling {
   static constexpr const char* name = "cdt";
   static constexpr int history_size = 0;
+  static constexpr bool uses_spin = false;  // the integrator applies it against each spin
   static RollingOutput torque(const RollingInput& in, Vec3&) {
     RollingOutput out;
     out.cdt_i = in.mu_r * in.normal_force * in.arm_i;
@@ -59,6 +61,7 @@ struct CdtRolling {
 struct EpsdRolling {
   static constexpr const char* name = "epsd";
   static constexpr int history_size = 3;
+  static constexpr bool uses_spin = true;
   static constexpr double damping_ratio = 0.3;  ///< eta_r, Ai et al.'s recommended value
   static RollingOutput torque(const RollingInput& in, Vec3& spring) {
     Vec3 w = in.omega_i - in.omega_j;
