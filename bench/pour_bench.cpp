@@ -85,6 +85,7 @@ int main(int argc, char** argv) {
     fmt::print("bushel,{},{},{},{},{},{:.3f},{:.4e},{}\n", spec.particle, spec.count, threads, phases[k], steps, s,
                static_cast<double>(steps) * static_cast<double>(spec.count) / s, sim.contacts());
     std::fflush(stdout);
+    fmt::print(stderr, "{}: {} neighbour-list builds so far\n", phases[k], sim.neighbors().builds());
   }
   return 0;
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <numeric>
+#include <span>
 #include <type_traits>
 #include <utility>
 
@@ -90,6 +91,171 @@ struct Lanes {
     b.size = 0;
   }
 };
+
+// Everything the contact loop reads and writes, as plain views. The loop gets its own copy:
+// a byte store (pair_active_) may alias any vector's internals or any shared variable, so
+// through the vectors, or through variables shared by an OpenMP region, the compiler would
+// reload every data pointer after it; from a private copy it keeps them in registers.
+struct ContactViews {
+  std::span<const Vec3> x_el, x_b, v_b, w_b, inertia;
+  std::span<const double> radius, mass;
+  std::span<const std::uint32_t> owner, sphere_count, species, first, second;
+  std::span<const std::uint32_t> wall_start, sphere_of_candidate, wall_of_candidate;
+  double* history;
+  double* wall_history;
+  std::span<std::uint8_t> active;
+  std::span<Vec3> pair_force, pair_torque_j, element_force, element_torque, wall_reaction;
+  std::span<double> pair_cdt_j, element_cdt;
+  const PairCoefficients* coefficients;
+  std::size_t n_species, n_types;
+  std::span<const Wall> walls;
+  int h;
+  double dt;
+};
+
+struct ChunkResult {
+  double max_ratio = 0.0;    // largest overlap over the smaller radius
+  std::size_t touching = 0;  // sphere-sphere contacts
+};
+
+// The contacts of elements [e0, e1): their pairs [p0, p1) as first element, then their wall
+// candidates; each element's own sums are zeroed and rebuilt here.
+template <class Rolling>
+ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint32_t e1, std::size_t p0, std::size_t p1,
+                          Lanes& lanes_ref) {
+  const ContactViews own = views;
+  const auto [x_el, x_b, v_b, w_b, inertia, radius, mass, owner, sphere_count, species, first, second, wall_start,
+              sphere_of_candidate, wall_of_candidate, history, wall_history, active, pair_force, pair_torque_j,
+              element_force, element_torque, wall_reaction, pair_cdt_j, element_cdt, coefficient_data, n_species,
+              n_types, walls, h, dt] = own;
+  const std::size_t n_w = walls.size();
+  auto coefficients = [&](std::size_t a, std::size_t b) -> const PairCoefficients& {
+    return coefficient_data[a * n_species + b];
+  };
+  Lanes& lanes_all = lanes_ref;
+  // A touching pair goes into the batch with side i = its first element; returns its
+  // overlap ratio, or -1 if it does not touch.
+  auto visit_pair = [&](std::size_t p, Lanes& lanes) -> double {
+    const std::uint32_t i = first[p], j = second[p];
+    double* hist = history + p * static_cast<std::size_t>(h);
+    const Vec3 d = x_el[j] - x_el[i];
+    const double ri = radius[i], rj = radius[j];
+    const double dist2 = norm2(d);
+    if (dist2 >= (ri + rj) * (ri + rj)) {
+      if (active[p]) {  // contact over: history starts afresh, the slot reads as zero
+        std::fill_n(hist, h, 0.0);
+        pair_force[p] = pair_torque_j[p] = Vec3{};
+        pair_cdt_j[p] = 0.0;
+        active[p] = 0;
+      }
+      return -1.0;
+    }
+    active[p] = 1;
+    const double dist = std::sqrt(dist2);
+    const Vec3 n = d / dist;
+    const double overlap = ri + rj - dist;
+    const std::uint32_t bi = owner[i], bj = owner[j];
+    const bool lone_i = sphere_count[bi] == 1, lone_j = sphere_count[bj] == 1;
+    // Arms from each centre of mass to the contact point c = x_i + (r_i - delta/2) n; a lone
+    // sphere's centre of mass is its centre, so its arm lies along the normal.
+    const double a_i = ri - 0.5 * overlap, a_j = rj - 0.5 * overlap;
+    const Vec3 arm_i = lone_i ? a_i * n : x_el[i] + a_i * n - x_b[bi];
+    const Vec3 arm_j = lone_j ? -a_j * n : x_el[i] + a_i * n - x_b[bj];
+    const Vec3 v_rel = v_b[bi] + cross(w_b[bi], arm_i) - v_b[bj] - cross(w_b[bj], arm_j);
+    const double mi = mass[bi], mj = mass[bj];
+    const PairCoefficients& co = coefficients(species[i], species[j]);
+    LaneExtra& e = lanes.next();
+    e.element = i;
+    e.item = static_cast<std::uint32_t>(p);
+    e.wall = false;
+    e.history = hist;
+    e.arm_i = arm_i;
+    e.arm_j = arm_j;
+    if constexpr (Rolling::uses_spin) {
+      e.omega_i = w_b[bi];
+      e.omega_j = w_b[bj];
+    }
+    e.arm_i_len = lone_i ? a_i : norm(arm_i);
+    e.arm_j_len = lone_j ? a_j : norm(arm_j);
+    e.inertia_r = 0.0;
+    e.mu_r = co.rolling_friction;
+    if constexpr (std::is_same_v<Rolling, EpsdRolling>) {
+      const double ii = min_moment(inertia[bi]) + mi * e.arm_i_len * e.arm_i_len;
+      const double ij = min_moment(inertia[bj]) + mj * e.arm_j_len * e.arm_j_len;
+      e.inertia_r = ii * ij / (ii + ij);
+    }
+    lanes.push(n, overlap, v_rel, ri * rj / (ri + rj), mi * mj / (mi + mj), co);
+    return overlap / std::min(ri, rj);
+  };
+  // The same for a wall candidate, side i = the sphere.
+  auto visit_wall = [&](std::size_t cw, Lanes& lanes) -> double {
+    const std::uint32_t s = sphere_of_candidate[cw], w = wall_of_candidate[cw];
+    const std::uint32_t b = owner[s];
+    double* hist = wall_history + (s * n_w + w) * static_cast<std::size_t>(h);
+    const WallTouch t = touch(walls[w], x_el[s], radius[s]);
+    if (!t.touching) {
+      if (std::any_of(hist, hist + h, [](double v) { return v != 0.0; })) std::fill_n(hist, h, 0.0);
+      wall_reaction[2 * cw] = wall_reaction[2 * cw + 1] = Vec3{};
+      return -1.0;
+    }
+    const Vec3 arm = t.point - x_b[b];
+    const Vec3 v_rel = v_b[b] + cross(w_b[b], arm);  // walls are still
+    const double arm_len = norm(arm);
+    const PairCoefficients& co = coefficients(species[s], n_types + w);
+    LaneExtra& e = lanes.next();
+    e.element = s;
+    e.item = static_cast<std::uint32_t>(cw);
+    e.wall = true;
+    e.history = hist;
+    e.arm_i = arm;
+    e.arm_j = t.point;  // for the reaction's torque about the origin
+    if constexpr (Rolling::uses_spin) {
+      e.omega_i = w_b[b];
+      e.omega_j = Vec3{};
+    }
+    e.arm_i_len = arm_len;
+    e.arm_j_len = 0.0;
+    e.inertia_r = min_moment(inertia[b]) + mass[b] * arm_len * arm_len;
+    e.mu_r = co.rolling_friction;
+    lanes.push(t.normal, t.overlap, v_rel, radius[s], mass[b], co);
+    return t.overlap / radius[s];
+  };
+  // Side i adds to its element's own sums (in pair order, then walls); side j's share goes to
+  // the pair's slot, or to the wall's reaction.
+  auto write = [&](const LaneExtra& e, const Vec3& f, const RollingOutput& roll) {
+    element_force[e.element] += f;
+    element_torque[e.element] += cross(e.arm_i, f) + roll.torque_i;
+    element_cdt[e.element] += roll.cdt_i;
+    if (e.wall) {
+      wall_reaction[2 * std::size_t{e.item}] = -f;
+      wall_reaction[2 * std::size_t{e.item} + 1] = cross(e.arm_j, -f) - roll.torque_i;
+    } else {
+      pair_force[e.item] = f;
+      pair_torque_j[e.item] = cross(e.arm_j, -f) + roll.torque_j;
+      pair_cdt_j[e.item] = roll.cdt_j;
+    }
+  };
+
+  ChunkResult r;
+  std::fill(element_force.begin() + e0, element_force.begin() + e1, Vec3{});
+  std::fill(element_torque.begin() + e0, element_torque.begin() + e1, Vec3{});
+  std::fill(element_cdt.begin() + e0, element_cdt.begin() + e1, 0.0);
+  for (std::size_t p = p0; p < p1; ++p) {
+    const double ratio = visit_pair(p, lanes_all);
+    if (ratio < 0.0) continue;
+    r.max_ratio = std::max(r.max_ratio, ratio);
+    ++r.touching;
+    if (lanes_all.full()) lanes_all.template finish<Rolling>(dt, write);
+  }
+  for (std::size_t cw = wall_start[e0]; cw < wall_start[e1]; ++cw) {
+    const double ratio = visit_wall(cw, lanes_all);
+    if (ratio < 0.0) continue;
+    r.max_ratio = std::max(r.max_ratio, ratio);
+    if (lanes_all.full()) lanes_all.template finish<Rolling>(dt, write);
+  }
+  lanes_all.template finish<Rolling>(dt, write);
+  return r;
+}
 
 }  // namespace
 
@@ -252,110 +418,37 @@ void Simulation::compute_forces(const Rolling&) {
     pair_active_.assign(n_pairs, 1);
     active_build_ = neighbors_.builds();
   }
-  const int h = neighbors_.history_size();
-  const std::size_t n_w = walls_.size();
-  const std::size_t n_types = ps.types().size();
-
-  // A touching pair goes into the batch with side i = its first element; returns its
-  // overlap ratio, or -1 if it does not touch.
-  auto visit_pair = [&](std::size_t p, Lanes& lanes) -> double {
-    const std::uint32_t i = neighbors_.first(p), j = neighbors_.second(p);
-    double* hist = neighbors_.history(p);
-    const Vec3 d = ps.sphere_position[j] - ps.sphere_position[i];
-    const double ri = ps.radius[i], rj = ps.radius[j];
-    const double dist2 = norm2(d);
-    if (dist2 >= (ri + rj) * (ri + rj)) {
-      if (pair_active_[p]) {  // contact over: history starts afresh, the slot reads as zero
-        std::fill_n(hist, h, 0.0);
-        pair_force_[p] = pair_torque_j_[p] = Vec3{};
-        pair_cdt_j_[p] = 0.0;
-        pair_active_[p] = 0;
-      }
-      return -1.0;
-    }
-    pair_active_[p] = 1;
-    const double dist = std::sqrt(dist2);
-    const Vec3 n = d / dist;
-    const double overlap = ri + rj - dist;
-    const std::uint32_t bi = ps.owner[i], bj = ps.owner[j];
-    const Vec3 c = ps.sphere_position[i] + (ri - 0.5 * overlap) * n;
-    const Vec3 arm_i = c - ps.position[bi], arm_j = c - ps.position[bj];
-    const Vec3 v_rel = ps.velocity[bi] + cross(ps.angular_velocity[bi], arm_i) - ps.velocity[bj] -
-                       cross(ps.angular_velocity[bj], arm_j);
-    const double mi = ps.mass[bi], mj = ps.mass[bj];
-    const PairCoefficients& co = coefficients_(ps.species[i], ps.species[j]);
-    LaneExtra& e = lanes.next();
-    e.element = i;
-    e.item = static_cast<std::uint32_t>(p);
-    e.wall = false;
-    e.history = hist;
-    e.arm_i = arm_i;
-    e.arm_j = arm_j;
-    if constexpr (Rolling::uses_spin) {
-      e.omega_i = ps.angular_velocity[bi];
-      e.omega_j = ps.angular_velocity[bj];
-    }
-    // A lone sphere's centre of mass is its centre: the arm is r - delta/2, no square root.
-    e.arm_i_len = ps.sphere_count[bi] == 1 ? ri - 0.5 * overlap : norm(arm_i);
-    e.arm_j_len = ps.sphere_count[bj] == 1 ? rj - 0.5 * overlap : norm(arm_j);
-    e.inertia_r = 0.0;
-    e.mu_r = co.rolling_friction;
-    if constexpr (std::is_same_v<Rolling, EpsdRolling>) {
-      const double ii = min_moment(ps.inertia[bi]) + mi * e.arm_i_len * e.arm_i_len;
-      const double ij = min_moment(ps.inertia[bj]) + mj * e.arm_j_len * e.arm_j_len;
-      e.inertia_r = ii * ij / (ii + ij);
-    }
-    lanes.push(n, overlap, v_rel, ri * rj / (ri + rj), mi * mj / (mi + mj), co);
-    return overlap / std::min(ri, rj);
-  };
-  // The same for a wall candidate, side i = the sphere.
-  auto visit_wall = [&](std::size_t cw, Lanes& lanes) -> double {
-    const std::uint32_t s = sphere_of_candidate_[cw], w = wall_of_candidate_[cw];
-    const std::uint32_t b = ps.owner[s];
-    double* hist = wall_history_.data() + (s * n_w + w) * static_cast<std::size_t>(h);
-    const WallTouch t = touch(walls_[w], ps.sphere_position[s], ps.radius[s]);
-    if (!t.touching) {
-      if (std::any_of(hist, hist + h, [](double v) { return v != 0.0; })) std::fill_n(hist, h, 0.0);
-      wall_reaction_[2 * cw] = wall_reaction_[2 * cw + 1] = Vec3{};
-      return -1.0;
-    }
-    const Vec3 arm = t.point - ps.position[b];
-    const Vec3 v_rel = ps.velocity[b] + cross(ps.angular_velocity[b], arm);  // walls are still
-    const double arm_len = norm(arm);
-    const PairCoefficients& co = coefficients_(ps.species[s], n_types + w);
-    LaneExtra& e = lanes.next();
-    e.element = s;
-    e.item = static_cast<std::uint32_t>(cw);
-    e.wall = true;
-    e.history = hist;
-    e.arm_i = arm;
-    e.arm_j = t.point;  // for the reaction's torque about the origin
-    if constexpr (Rolling::uses_spin) {
-      e.omega_i = ps.angular_velocity[b];
-      e.omega_j = Vec3{};
-    }
-    e.arm_i_len = arm_len;
-    e.arm_j_len = 0.0;
-    e.inertia_r = min_moment(ps.inertia[b]) + ps.mass[b] * arm_len * arm_len;
-    e.mu_r = co.rolling_friction;
-    lanes.push(t.normal, t.overlap, v_rel, ps.radius[s], ps.mass[b], co);
-    return t.overlap / ps.radius[s];
-  };
-  // Side i adds to its element's own sums (in pair order, then walls); side j's share goes to
-  // the pair's slot, or to the wall's reaction.
-  auto write = [&](const LaneExtra& e, const Vec3& f, const RollingOutput& roll) {
-    element_force_[e.element] += f;
-    element_torque_[e.element] += cross(e.arm_i, f) + roll.torque_i;
-    element_cdt_[e.element] += roll.cdt_i;
-    if (e.wall) {
-      wall_reaction_[2 * std::size_t{e.item}] = -f;
-      wall_reaction_[2 * std::size_t{e.item} + 1] = cross(e.arm_j, -f) - roll.torque_i;
-    } else {
-      pair_force_[e.item] = f;
-      pair_torque_j_[e.item] = cross(e.arm_j, -f) + roll.torque_j;
-      pair_cdt_j_[e.item] = roll.cdt_j;
-    }
-  };
+  const ContactViews views{ps.sphere_position,
+                           ps.position,
+                           ps.velocity,
+                           ps.angular_velocity,
+                           ps.inertia,
+                           ps.radius,
+                           ps.mass,
+                           ps.owner,
+                           ps.sphere_count,
+                           ps.species,
+                           neighbors_.firsts(),
+                           neighbors_.seconds(),
+                           wall_start_,
+                           sphere_of_candidate_,
+                           wall_of_candidate_,
+                           neighbors_.all_history().data(),
+                           wall_history_.data(),
+                           pair_active_,
+                           pair_force_,
+                           pair_torque_j_,
+                           element_force_,
+                           element_torque_,
+                           wall_reaction_,
+                           pair_cdt_j_,
+                           element_cdt_,
+                           coefficients_.size() > 0 ? &coefficients_(0, 0) : nullptr,
+                           coefficients_.size(),
+                           ps.types().size(),
+                           walls_,
+                           neighbors_.history_size(),
+                           dt};
 
   // --- contacts, per chunk of elements: their pairs (as first element), then their walls ---
   double max_ratio = 0.0;
@@ -369,23 +462,10 @@ void Simulation::compute_forces(const Rolling&) {
     for (std::ptrdiff_t c = 0; c < n_chunks; ++c) {
       const std::uint32_t e0 = chunk_start_[static_cast<std::size_t>(c)];
       const std::uint32_t e1 = chunk_start_[static_cast<std::size_t>(c) + 1];
-      std::fill(element_force_.begin() + e0, element_force_.begin() + e1, Vec3{});
-      std::fill(element_torque_.begin() + e0, element_torque_.begin() + e1, Vec3{});
-      std::fill(element_cdt_.begin() + e0, element_cdt_.begin() + e1, 0.0);
-      for (std::size_t p = neighbors_.begin_of(e0); p < neighbors_.begin_of(e1); ++p) {
-        const double ratio = visit_pair(p, *lanes);
-        if (ratio < 0.0) continue;
-        max_ratio = std::max(max_ratio, ratio);
-        ++touching;
-        if (lanes->full()) lanes->template finish<Rolling>(dt, write);
-      }
-      for (std::size_t cw = wall_start_[e0]; cw < wall_start_[e1]; ++cw) {
-        const double ratio = visit_wall(cw, *lanes);
-        if (ratio < 0.0) continue;
-        max_ratio = std::max(max_ratio, ratio);
-        if (lanes->full()) lanes->template finish<Rolling>(dt, write);
-      }
-      lanes->template finish<Rolling>(dt, write);
+      const ChunkResult r =
+          contact_chunk<Rolling>(views, e0, e1, neighbors_.begin_of(e0), neighbors_.begin_of(e1), *lanes);
+      max_ratio = std::max(max_ratio, r.max_ratio);
+      touching += r.touching;
     }
   }
   sum_wall_reactions();

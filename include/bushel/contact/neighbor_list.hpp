@@ -32,6 +32,10 @@ class NeighborList {
   std::size_t pairs() const { return first_.size(); }
   std::uint32_t first(std::size_t p) const { return first_[p]; }
   std::uint32_t second(std::size_t p) const { return second_[p]; }
+  /// All first and second elements, and all history, for hot loops.
+  std::span<const std::uint32_t> firsts() const { return first_; }
+  std::span<const std::uint32_t> seconds() const { return second_; }
+  std::span<double> all_history() { return history_; }
   /// History values of pair p (history_size doubles).
   double* history(std::size_t p) { return history_.data() + p * static_cast<std::size_t>(history_size_); }
   int history_size() const { return history_size_; }
