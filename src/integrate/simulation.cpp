@@ -122,7 +122,7 @@ struct ChunkResult {
 // candidates; each element's own sums are zeroed and rebuilt here.
 template <class Rolling>
 ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint32_t e1, std::size_t p0, std::size_t p1,
-                          Lanes& lanes_ref) {
+                          Lanes& lanes) {
   const ContactViews own = views;
   const auto [x_el, x_b, v_b, w_b, inertia, radius, mass, owner, sphere_count, species, first, second, wall_start,
               sphere_of_candidate, wall_of_candidate, history, wall_history, active, pair_force, pair_torque_j,
@@ -132,10 +132,9 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
   auto coefficients = [&](std::size_t a, std::size_t b) -> const PairCoefficients& {
     return coefficient_data[a * n_species + b];
   };
-  Lanes& lanes_all = lanes_ref;
   // A touching pair goes into the batch with side i = its first element; returns its
   // overlap ratio, or -1 if it does not touch.
-  auto visit_pair = [&](std::size_t p, Lanes& lanes) -> double {
+  auto visit_pair = [&](std::size_t p) -> double {
     const std::uint32_t i = first[p], j = second[p];
     double* hist = history + p * static_cast<std::size_t>(h);
     const Vec3 d = x_el[j] - x_el[i];
@@ -188,7 +187,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     return overlap / std::min(ri, rj);
   };
   // The same for a wall candidate, side i = the sphere.
-  auto visit_wall = [&](std::size_t cw, Lanes& lanes) -> double {
+  auto visit_wall = [&](std::size_t cw) -> double {
     const std::uint32_t s = sphere_of_candidate[cw], w = wall_of_candidate[cw];
     const std::uint32_t b = owner[s];
     double* hist = wall_history + (s * n_w + w) * static_cast<std::size_t>(h);
@@ -241,19 +240,19 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
   std::fill(element_torque.begin() + e0, element_torque.begin() + e1, Vec3{});
   std::fill(element_cdt.begin() + e0, element_cdt.begin() + e1, 0.0);
   for (std::size_t p = p0; p < p1; ++p) {
-    const double ratio = visit_pair(p, lanes_all);
+    const double ratio = visit_pair(p);
     if (ratio < 0.0) continue;
     r.max_ratio = std::max(r.max_ratio, ratio);
     ++r.touching;
-    if (lanes_all.full()) lanes_all.template finish<Rolling>(dt, write);
+    if (lanes.full()) lanes.finish<Rolling>(dt, write);
   }
   for (std::size_t cw = wall_start[e0]; cw < wall_start[e1]; ++cw) {
-    const double ratio = visit_wall(cw, lanes_all);
+    const double ratio = visit_wall(cw);
     if (ratio < 0.0) continue;
     r.max_ratio = std::max(r.max_ratio, ratio);
-    if (lanes_all.full()) lanes_all.template finish<Rolling>(dt, write);
+    if (lanes.full()) lanes.finish<Rolling>(dt, write);
   }
-  lanes_all.template finish<Rolling>(dt, write);
+  lanes.finish<Rolling>(dt, write);
   return r;
 }
 
@@ -528,7 +527,10 @@ void Simulation::sum_wall_reactions() {
 }
 
 void Simulation::compute_forces() {
-  if (walls_changed_ || neighbors_.needs_rebuild(particles_.sphere_position)) rebuild();
+  // The last drift measured the elements' displacements; after changes from outside (-1)
+  // every element is checked.
+  const bool due = rebuild_due_ < 0 ? neighbors_.needs_rebuild(particles_.sphere_position) : rebuild_due_ > 0;
+  if (walls_changed_ || due) rebuild();
   std::visit([this](const auto& model) { compute_forces(model); }, rolling_);
 }
 
@@ -571,10 +573,12 @@ void Simulation::kick(double dt) {
 void Simulation::drift(double dt) {
   auto& ps = particles_;
   const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
-#pragma omp parallel for schedule(static) if (nb > parallel_threshold)
+  double moved2 = 0.0;  // largest squared displacement of an element since the last build [m2]
+#pragma omp parallel for schedule(static) reduction(max : moved2) if (nb > parallel_threshold)
   for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
     const auto b = static_cast<std::size_t>(sb);
-    ps.position[b] += ps.velocity[b] * dt;
+    const Vec3 x = ps.position[b] + ps.velocity[b] * dt;
+    ps.position[b] = x;
     const Vec3& inertia = ps.inertia[b];
     if (is_isotropic(inertia)) {
       ps.orientation[b] = advance(ps.orientation[b], ps.angular_velocity[b], dt);  // omega is constant
@@ -582,12 +586,21 @@ void Simulation::drift(double dt) {
       ps.angular_velocity[b] =
           rotate_rigid(ps.orientation[b], inertia, ps.angular_momentum[b], ps.angular_velocity[b], dt);
     }
+    // The elements follow, measured against the neighbour list's skin while at hand. A lone
+    // sphere sits at its centre of mass (as the contact law assumes).
+    const std::uint32_t s0 = ps.first_sphere[b], n_s = ps.sphere_count[b];
+    for (std::uint32_t s = s0; s < s0 + n_s; ++s) {
+      const Vec3 p = n_s == 1 ? x : x + rotate(ps.orientation[b], ps.offset[s]);
+      ps.sphere_position[s] = p;
+      moved2 = std::max(moved2, neighbors_.displacement2(s, p));
+    }
   }
-  ps.update_sphere_positions();
+  rebuild_due_ = moved2 > 0.25 * neighbors_.skin() * neighbors_.skin() ? 1 : 0;
 }
 
 void Simulation::step(std::uint64_t n) {
   prepare();
+  rebuild_due_ = -1;  // particles may have been added or moved from outside: check them all
   const double dt = settings_.dt;
   for (std::uint64_t k = 0; k < n; ++k) {
     if (settings_.integrator == Integrator::velocity_verlet) {

@@ -8,6 +8,7 @@
 // a rebuild -- or a spatial sort that renumbers everything -- carries them over.
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -28,6 +29,12 @@ class NeighborList {
   /// True when some element moved more than skin/2 since the last build (or never built,
   /// or the element count changed).
   bool needs_rebuild(std::span<const Vec3> position) const;
+  /// Squared distance of an element from where it was at the last build [m2]; infinite for an
+  /// element that was not in it.
+  double displacement2(std::size_t element, const Vec3& position) const {
+    return element < reference_.size() ? norm2(position - reference_[element])
+                                       : std::numeric_limits<double>::infinity();
+  }
 
   std::size_t pairs() const { return first_.size(); }
   std::uint32_t first(std::size_t p) const { return first_[p]; }

@@ -82,6 +82,7 @@ class Simulation {
   PairCoefficientTable coefficients_;
   std::size_t prepared_types_ = 0, prepared_walls_ = 0;
   bool forces_valid_ = false;
+  int rebuild_due_ = -1;  // from the last drift: 1 yes, 0 no, -1 unknown (check every element)
   bool neighbors_configured_ = false;
 
   // per pair: the reaction on the second element from the last force computation
