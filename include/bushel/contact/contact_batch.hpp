@@ -17,7 +17,7 @@
 namespace bushel {
 
 struct ContactBatch {
-  static constexpr int capacity = 64;
+  static constexpr int capacity = 128;
   int size = 0;  ///< contacts in use
 
   // --- in ---------------------------------------------------------------------------------

@@ -2,7 +2,7 @@
 // The time stepper: particles, walls, contact laws and the neighbour list brought together
 // (ARCHITECTURE.md, "Time step"). One step:
 //   1. rebuild the neighbour list if needed (spatially sorting the particles every few builds)
-//   2. contacts, in parallel over fixed runs of elements (each about one batch of 64
+//   2. contacts, in parallel over fixed runs of elements (each about one batch of 128
 //      contacts): every element sums its own pairs (as first element) and its nearby walls;
 //      the share of each pair's second element goes to the pair's slot. The contact law runs
 //      over the batch at once (contact_batch.hpp).
