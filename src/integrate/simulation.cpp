@@ -579,6 +579,14 @@ void Simulation::drift(double dt) {
     const auto b = static_cast<std::size_t>(sb);
     const Vec3 x = ps.position[b] + ps.velocity[b] * dt;
     ps.position[b] = x;
+    const std::uint32_t s0 = ps.first_sphere[b], n_s = ps.sphere_count[b];
+    if (n_s == 1) {
+      // A lone sphere sits at its centre of mass (as the contact law assumes), and its
+      // orientation changes nothing, so it is not advanced (as LIGGGHTS's nve/sphere).
+      ps.sphere_position[s0] = x;
+      moved2 = std::max(moved2, neighbors_.displacement2(s0, x));
+      continue;
+    }
     const Vec3& inertia = ps.inertia[b];
     if (is_isotropic(inertia)) {
       ps.orientation[b] = advance(ps.orientation[b], ps.angular_velocity[b], dt);  // omega is constant
@@ -586,11 +594,9 @@ void Simulation::drift(double dt) {
       ps.angular_velocity[b] =
           rotate_rigid(ps.orientation[b], inertia, ps.angular_momentum[b], ps.angular_velocity[b], dt);
     }
-    // The elements follow, measured against the neighbour list's skin while at hand. A lone
-    // sphere sits at its centre of mass (as the contact law assumes).
-    const std::uint32_t s0 = ps.first_sphere[b], n_s = ps.sphere_count[b];
+    // The elements follow, measured against the neighbour list's skin while at hand.
     for (std::uint32_t s = s0; s < s0 + n_s; ++s) {
-      const Vec3 p = n_s == 1 ? x : x + rotate(ps.orientation[b], ps.offset[s]);
+      const Vec3 p = x + rotate(ps.orientation[b], ps.offset[s]);
       ps.sphere_position[s] = p;
       moved2 = std::max(moved2, neighbors_.displacement2(s, p));
     }

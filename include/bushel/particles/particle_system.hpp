@@ -50,7 +50,7 @@ class ParticleSystem {
   std::vector<std::uint32_t> body_id;       ///< stable id
   std::vector<std::uint32_t> body_type;     ///< index into types()
   std::vector<Vec3> position;               ///< centre of mass [m]
-  std::vector<Quat> orientation;            ///< principal frame -> world
+  std::vector<Quat> orientation;            ///< principal frame -> world; not advanced for a lone sphere (no effect)
   std::vector<Vec3> velocity;               ///< [m/s]
   std::vector<Vec3> angular_velocity;       ///< world frame [rad/s]; derived from angular_momentum each step
   std::vector<Vec3> angular_momentum;       ///< spin angular momentum, world frame [kg m2/s]: the rotational state
