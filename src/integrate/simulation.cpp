@@ -11,6 +11,7 @@
 
 #include "bushel/contact/contact_batch.hpp"
 #include "bushel/core/input_error.hpp"
+#include "bushel/core/mat3.hpp"
 #include "bushel/core/parallel.hpp"
 #include "bushel/integrate/rigid_rotation.hpp"
 
@@ -594,9 +595,11 @@ void Simulation::drift(double dt) {
       ps.angular_velocity[b] =
           rotate_rigid(ps.orientation[b], inertia, ps.angular_momentum[b], ps.angular_velocity[b], dt);
     }
-    // The elements follow, measured against the neighbour list's skin while at hand.
+    // The elements follow, measured against the neighbour list's skin while at hand (one
+    // rotation matrix per body: cheaper than a quaternion rotation per element).
+    const Mat3 r = to_matrix(ps.orientation[b]);
     for (std::uint32_t s = s0; s < s0 + n_s; ++s) {
-      const Vec3 p = x + rotate(ps.orientation[b], ps.offset[s]);
+      const Vec3 p = x + r * ps.offset[s];
       ps.sphere_position[s] = p;
       moved2 = std::max(moved2, neighbors_.displacement2(s, p));
     }
