@@ -11,7 +11,6 @@
 
 #include "bushel/contact/contact_batch.hpp"
 #include "bushel/core/input_error.hpp"
-#include "bushel/core/mat3.hpp"
 #include "bushel/core/parallel.hpp"
 #include "bushel/integrate/rigid_rotation.hpp"
 
@@ -578,31 +577,21 @@ void Simulation::drift(double dt) {
 #pragma omp parallel for schedule(static) reduction(max : moved2) if (nb > parallel_threshold)
   for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
     const auto b = static_cast<std::size_t>(sb);
-    const Vec3 x = ps.position[b] + ps.velocity[b] * dt;
-    ps.position[b] = x;
-    const std::uint32_t s0 = ps.first_sphere[b], n_s = ps.sphere_count[b];
-    if (n_s == 1) {
-      // A lone sphere sits at its centre of mass (as the contact law assumes), and its
-      // orientation changes nothing, so it is not advanced (as LIGGGHTS's nve/sphere).
-      ps.sphere_position[s0] = x;
-      moved2 = std::max(moved2, neighbors_.displacement2(s0, x));
-      continue;
+    ps.position[b] += ps.velocity[b] * dt;
+    // A lone sphere's orientation changes nothing, so it is not advanced (as LIGGGHTS's
+    // nve/sphere).
+    if (ps.sphere_count[b] > 1) {
+      const Vec3& inertia = ps.inertia[b];
+      if (is_isotropic(inertia)) {
+        ps.orientation[b] = advance(ps.orientation[b], ps.angular_velocity[b], dt);  // omega is constant
+      } else {
+        ps.angular_velocity[b] =
+            rotate_rigid(ps.orientation[b], inertia, ps.angular_momentum[b], ps.angular_velocity[b], dt);
+      }
     }
-    const Vec3& inertia = ps.inertia[b];
-    if (is_isotropic(inertia)) {
-      ps.orientation[b] = advance(ps.orientation[b], ps.angular_velocity[b], dt);  // omega is constant
-    } else {
-      ps.angular_velocity[b] =
-          rotate_rigid(ps.orientation[b], inertia, ps.angular_momentum[b], ps.angular_velocity[b], dt);
-    }
-    // The elements follow, measured against the neighbour list's skin while at hand (one
-    // rotation matrix per body: cheaper than a quaternion rotation per element).
-    const Mat3 r = to_matrix(ps.orientation[b]);
-    for (std::uint32_t s = s0; s < s0 + n_s; ++s) {
-      const Vec3 p = x + r * ps.offset[s];
-      ps.sphere_position[s] = p;
-      moved2 = std::max(moved2, neighbors_.displacement2(s, p));
-    }
+    // The elements follow, measured against the neighbour list's skin while at hand.
+    ps.place_elements(
+        b, [&](std::uint32_t s, const Vec3& p) { moved2 = std::max(moved2, neighbors_.displacement2(s, p)); });
   }
   rebuild_due_ = moved2 > 0.25 * neighbors_.skin() * neighbors_.skin() ? 1 : 0;
 }

@@ -52,13 +52,9 @@ std::uint32_t ParticleSystem::add(std::uint32_t type, const BodyState& s) {
 }
 
 void ParticleSystem::update_sphere_positions() {
-  const auto n = static_cast<std::ptrdiff_t>(spheres());
+  const auto n = static_cast<std::ptrdiff_t>(bodies());
 #pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (std::ptrdiff_t s = 0; s < n; ++s) {
-    const std::uint32_t b = owner[static_cast<std::size_t>(s)];
-    sphere_position[static_cast<std::size_t>(s)] =
-        position[b] + rotate(orientation[b], offset[static_cast<std::size_t>(s)]);
-  }
+  for (std::ptrdiff_t b = 0; b < n; ++b) place_elements(static_cast<std::size_t>(b), [](std::uint32_t, const Vec3&) {});
 }
 
 std::vector<std::uint32_t> ParticleSystem::permute(std::span<const std::uint32_t> order) {

@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "bushel/core/mat3.hpp"
 #include "bushel/core/quat.hpp"
 #include "bushel/core/vec3.hpp"
 #include "bushel/particles/particle_type.hpp"
@@ -35,6 +36,25 @@ class ParticleSystem {
 
   /// World positions of all sphere elements from the body poses.
   void update_sphere_positions();
+  /// World positions of body b's elements from its pose: a lone sphere sits at its centre of
+  /// mass (as the contact law assumes); a clump's elements turn with one rotation matrix.
+  /// `placed(s, position)` is called for each element as it is placed.
+  template <class Placed>
+  void place_elements(std::size_t b, Placed&& placed) {
+    const std::uint32_t s0 = first_sphere[b], n = sphere_count[b];
+    const Vec3 x = position[b];
+    if (n == 1) {
+      sphere_position[s0] = x;
+      placed(s0, x);
+      return;
+    }
+    const Mat3 r = to_matrix(orientation[b]);
+    for (std::uint32_t s = s0; s < s0 + n; ++s) {
+      const Vec3 p = x + r * offset[s];
+      sphere_position[s] = p;
+      placed(s, p);
+    }
+  }
   /// Reorders bodies (and their elements, contiguously) to `order` (new index -> old index).
   /// Returns the sphere permutation applied (new sphere index -> old sphere index).
   std::vector<std::uint32_t> permute(std::span<const std::uint32_t> order);
