@@ -541,32 +541,41 @@ void Simulation::kick(double dt) {
   for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
     const auto b = static_cast<std::size_t>(sb);
     ps.velocity[b] += ps.force[b] * (dt / ps.mass[b]);
-    const Vec3& inertia = ps.inertia[b];
+    const Vec3& inv_inertia = ps.inverse_inertia[b];
     const Vec3 omega = ps.angular_velocity[b];
-    if (is_isotropic(inertia)) {  // same cap as below, in omega instead of L
-      Vec3 w = omega + ps.torque[b] * (dt / inertia.x);
-      const double w0 = norm(omega);
-      if (ps.rolling_resistance[b] > 0.0 && w0 > 0.0) {
+    const double w0 = norm(omega);
+    const bool resisted = ps.rolling_resistance[b] > 0.0 && w0 > 0.0;
+    if (is_isotropic(ps.inertia[b])) {  // same cap as below, in omega instead of L
+      Vec3 w = omega + ps.torque[b] * (dt * inv_inertia.x);
+      if (resisted) {
         const Vec3 u = omega / w0;
         const double along = dot(w, u);
-        if (along > 0.0) w -= std::min(ps.rolling_resistance[b] * dt / inertia.x, along) * u;
+        if (along > 0.0) w -= std::min(ps.rolling_resistance[b] * dt * inv_inertia.x, along) * u;
       }
       ps.angular_velocity[b] = w;
-      ps.angular_momentum[b] = inertia.x * w;
+      ps.angular_momentum[b] = ps.inertia[b].x * w;
       continue;
     }
-    const Quat& q = ps.orientation[b];
+    // One rotation matrix serves every frame change: momentum, spin direction and the new
+    // angular velocity. The cap is linear in L, so it is applied in both frames at once.
+    const Mat3 r = to_matrix(ps.orientation[b]);
     Vec3 l = ps.angular_momentum[b] + ps.torque[b] * dt;
+    Vec3 l_body = transpose_times(r, l);
     // Constant directional rolling torque against the body's own spin, capped so that it can
     // stop the spin within this step but never reverse it (physics.md: the CDT sign flip).
-    const double w = norm(omega);
-    if (ps.rolling_resistance[b] > 0.0 && w > 0.0) {
-      const Vec3 u = omega / w;
-      const double along = dot(angular_velocity_from_momentum(q, inertia, l), u);
-      if (along > 0.0) l -= std::min(ps.rolling_resistance[b] * dt, along * inertia_about(q, inertia, u)) * u;
+    if (resisted) {
+      const Vec3 u = omega / w0;
+      const Vec3 u_body = transpose_times(r, u);
+      const double along = dot(scale(inv_inertia, l_body), u_body);  // new spin along u [rad/s]
+      if (along > 0.0) {
+        const double inertia_u = dot(scale(ps.inertia[b], u_body), u_body);  // moment about u [kg m2]
+        const double dl = std::min(ps.rolling_resistance[b] * dt, along * inertia_u);
+        l -= dl * u;
+        l_body -= dl * u_body;
+      }
     }
     ps.angular_momentum[b] = l;
-    ps.angular_velocity[b] = angular_velocity_from_momentum(q, inertia, l);
+    ps.angular_velocity[b] = r * scale(inv_inertia, l_body);
   }
 }
 
@@ -577,21 +586,28 @@ void Simulation::drift(double dt) {
 #pragma omp parallel for schedule(static) reduction(max : moved2) if (nb > parallel_threshold)
   for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
     const auto b = static_cast<std::size_t>(sb);
+    // The elements are measured against the neighbour list's skin while at hand (declared in
+    // the loop so that it updates this thread's copy of moved2).
+    const auto measure = [&](std::uint32_t s, const Vec3& p) {
+      moved2 = std::max(moved2, neighbors_.displacement2(s, p));
+    };
     ps.position[b] += ps.velocity[b] * dt;
     // A lone sphere's orientation changes nothing, so it is not advanced (as LIGGGHTS's
     // nve/sphere).
-    if (ps.sphere_count[b] > 1) {
-      const Vec3& inertia = ps.inertia[b];
-      if (is_isotropic(inertia)) {
-        ps.orientation[b] = advance(ps.orientation[b], ps.angular_velocity[b], dt);  // omega is constant
-      } else {
-        ps.angular_velocity[b] =
-            rotate_rigid(ps.orientation[b], inertia, ps.angular_momentum[b], ps.angular_velocity[b], dt);
-      }
+    if (ps.sphere_count[b] == 1) {
+      ps.place_elements(b, measure);
+      continue;
     }
-    // The elements follow, measured against the neighbour list's skin while at hand.
-    ps.place_elements(
-        b, [&](std::uint32_t s, const Vec3& p) { moved2 = std::max(moved2, neighbors_.displacement2(s, p)); });
+    Quat& q = ps.orientation[b];
+    if (is_isotropic(ps.inertia[b])) {
+      q = advance(q, ps.angular_velocity[b], dt);  // omega is constant
+      ps.place_elements(b, to_matrix(q), measure);
+      continue;
+    }
+    rotate_rigid(q, ps.inverse_inertia[b], ps.angular_momentum[b], ps.angular_velocity[b], dt);
+    const Mat3 r = to_matrix(q);
+    ps.angular_velocity[b] = angular_velocity_from_momentum(r, ps.inverse_inertia[b], ps.angular_momentum[b]);
+    ps.place_elements(b, r, measure);
   }
   rebuild_due_ = moved2 > 0.25 * neighbors_.skin() * neighbors_.skin() ? 1 : 0;
 }

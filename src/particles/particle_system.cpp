@@ -37,6 +37,7 @@ std::uint32_t ParticleSystem::add(std::uint32_t type, const BodyState& s) {
   rolling_resistance.push_back(0.0);
   mass.push_back(t.mass());
   inertia.push_back(t.shape.principal_inertia(t.material.density));
+  inverse_inertia.push_back({1.0 / inertia.back().x, 1.0 / inertia.back().y, 1.0 / inertia.back().z});
   angular_momentum.push_back(spin_momentum(b));
   first_sphere.push_back(static_cast<std::uint32_t>(spheres()));
   sphere_count.push_back(static_cast<std::uint32_t>(t.shape.spheres.size()));
@@ -67,7 +68,8 @@ std::vector<std::uint32_t> ParticleSystem::permute(std::span<const std::uint32_t
     for (std::uint32_t k = 0; k < sphere_count[ob]; ++k) sphere_order.push_back(first_sphere[ob] + k);
   }
   for (auto* v : {&body_id, &body_type, &sphere_count}) apply(*v, order);
-  for (auto* v : {&position, &velocity, &angular_velocity, &angular_momentum, &force, &torque, &inertia}) {
+  for (auto* v :
+       {&position, &velocity, &angular_velocity, &angular_momentum, &force, &torque, &inertia, &inverse_inertia}) {
     apply(*v, order);
   }
   apply(orientation, order);

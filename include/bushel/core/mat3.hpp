@@ -26,6 +26,12 @@ constexpr Vec3 operator*(const Mat3& a, const Vec3& v) {
           a(2, 0) * v.x + a(2, 1) * v.y + a(2, 2) * v.z};
 }
 
+/// transpose(a) v without forming the transpose (world to body frame for a rotation).
+constexpr Vec3 transpose_times(const Mat3& a, const Vec3& v) {
+  return {a(0, 0) * v.x + a(1, 0) * v.y + a(2, 0) * v.z, a(0, 1) * v.x + a(1, 1) * v.y + a(2, 1) * v.z,
+          a(0, 2) * v.x + a(1, 2) * v.y + a(2, 2) * v.z};
+}
+
 constexpr Mat3 operator*(const Mat3& a, const Mat3& b) {
   Mat3 r;
   for (int i = 0; i < 3; ++i) {

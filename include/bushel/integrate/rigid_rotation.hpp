@@ -5,22 +5,29 @@
 // second order), and the angular velocity is recovered from the momentum at the new pose.
 // The momentum is the stored state (ParticleSystem::angular_momentum; spin_momentum() gives
 // it from an angular velocity), so a step converts between the two as little as possible.
+// The principal moments enter as their inverses (ParticleSystem::inverse_inertia): the step
+// multiplies instead of dividing.
 
+#include "bushel/core/mat3.hpp"
 #include "bushel/core/quat.hpp"
 #include "bushel/core/vec3.hpp"
 
 namespace bushel {
 
-/// omega = R I^-1 R^T L for principal moments `inertia` and orientation q.
-inline Vec3 angular_velocity_from_momentum(const Quat& q, const Vec3& inertia, const Vec3& momentum) {
-  const Vec3 l = rotate_inverse(q, momentum);
-  return rotate(q, Vec3{l.x / inertia.x, l.y / inertia.y, l.z / inertia.z});
+/// Componentwise product: a diagonal matrix (principal moments or their inverses) times v.
+constexpr Vec3 scale(const Vec3& diagonal, const Vec3& v) {
+  return {diagonal.x * v.x, diagonal.y * v.y, diagonal.z * v.z};
 }
 
-/// Moment of inertia about the world direction `u` (unit) [kg m2].
-inline double inertia_about(const Quat& q, const Vec3& inertia, const Vec3& u) {
-  const Vec3 b = rotate_inverse(q, u);
-  return inertia.x * b.x * b.x + inertia.y * b.y * b.y + inertia.z * b.z * b.z;
+/// omega = R I^-1 R^T L for inverse principal moments `inverse_inertia` [1/(kg m2)] and
+/// orientation q.
+inline Vec3 angular_velocity_from_momentum(const Quat& q, const Vec3& inverse_inertia, const Vec3& momentum) {
+  return rotate(q, scale(inverse_inertia, rotate_inverse(q, momentum)));
+}
+
+/// The same with the orientation as a rotation matrix, for a caller that has it at hand.
+constexpr Vec3 angular_velocity_from_momentum(const Mat3& r, const Vec3& inverse_inertia, const Vec3& momentum) {
+  return r * scale(inverse_inertia, transpose_times(r, momentum));
 }
 
 /// dq = dt/2 (0, omega) q, normalised.
@@ -31,13 +38,12 @@ inline Quat advance(const Quat& q, const Vec3& omega, double dt) {
 }
 
 /// Advances q over dt at constant angular momentum L, given the angular velocity `w0` that L
-/// has at the current q; returns the new angular velocity.
-inline Vec3 rotate_rigid(Quat& q, const Vec3& inertia, const Vec3& momentum, const Vec3& w0, double dt) {
+/// has at the current q. The caller recovers the new angular velocity at the new q.
+inline void rotate_rigid(Quat& q, const Vec3& inverse_inertia, const Vec3& momentum, const Vec3& w0, double dt) {
   const Quat full = advance(q, w0, dt);
   const Quat half = advance(q, w0, 0.5 * dt);
-  const Quat half2 = advance(half, angular_velocity_from_momentum(half, inertia, momentum), 0.5 * dt);
+  const Quat half2 = advance(half, angular_velocity_from_momentum(half, inverse_inertia, momentum), 0.5 * dt);
   q = normalized(Quat{2 * half2.w - full.w, 2 * half2.x - full.x, 2 * half2.y - full.y, 2 * half2.z - full.z});
-  return angular_velocity_from_momentum(q, inertia, momentum);
 }
 
 }  // namespace bushel

@@ -41,14 +41,19 @@ class ParticleSystem {
   /// `placed(s, position)` is called for each element as it is placed.
   template <class Placed>
   void place_elements(std::size_t b, Placed&& placed) {
-    const std::uint32_t s0 = first_sphere[b], n = sphere_count[b];
-    const Vec3 x = position[b];
-    if (n == 1) {
-      sphere_position[s0] = x;
-      placed(s0, x);
+    if (sphere_count[b] == 1) {
+      const std::uint32_t s = first_sphere[b];
+      sphere_position[s] = position[b];
+      placed(s, position[b]);
       return;
     }
-    const Mat3 r = to_matrix(orientation[b]);
+    place_elements(b, to_matrix(orientation[b]), placed);
+  }
+  /// The same for a clump whose rotation matrix r (of its orientation) is at hand.
+  template <class Placed>
+  void place_elements(std::size_t b, const Mat3& r, Placed&& placed) {
+    const std::uint32_t s0 = first_sphere[b], n = sphere_count[b];
+    const Vec3 x = position[b];
     for (std::uint32_t s = s0; s < s0 + n; ++s) {
       const Vec3 p = x + r * offset[s];
       sphere_position[s] = p;
@@ -79,6 +84,7 @@ class ParticleSystem {
   std::vector<double> rolling_resistance;   ///< CDT rolling torque magnitude of the last step [N m]
   std::vector<double> mass;                 ///< [kg]
   std::vector<Vec3> inertia;                ///< principal moments [kg m2]
+  std::vector<Vec3> inverse_inertia;        ///< their inverses [1/(kg m2)], so the step multiplies
   std::vector<std::uint32_t> first_sphere;  ///< index of the body's first element
   std::vector<std::uint32_t> sphere_count;  ///< number of elements
 
