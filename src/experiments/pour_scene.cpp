@@ -86,14 +86,17 @@ PourScene make_pour_scene(const PourSpec& spec) {
   s.contacts.set("wheat", "steel", {0.33, 0.17, 0.01});
   PourScene scene{Simulation(std::move(s)), radius, t_r};
   Simulation& sim = scene.simulation;
-  sim.add_wall({"bottom", PlaneShape{{0, 0, 0}, {0, 0, 1}}, steel, {}, {}});
-  sim.add_wall({"side", CylinderShape{{0, 0, 0}, radius, -1e30, 1e30}, steel, {}, {}});
   // Exclusion diameter: the bounding sphere, rounded up (6.2 mm for the 5-sphere kernels).
   const double exclusion = spec.particle == "sphere" ? 3.64e-3 : 2.0 * type.shape.bounding_radius() * 1.013;
+  const std::vector<Vec3> cloud = random_cloud(spec.count, radius, exclusion, spec.solid_fraction, spec.seed);
+  double top = 0.0;
+  for (const Vec3& p : cloud) top = std::max(top, p.z);
+  sim.add_part(plane_part("bottom", steel, {0, 0, 0}, {0, 0, 1}));
+  sim.add_part(make_part("side", CylinderSpec{radius, top + diameter, inside}, steel));
   const auto t = sim.particles().add_type(std::move(type));
   std::mt19937_64 rng(spec.seed ^ 0x9e3779b97f4a7c15ULL);
   std::normal_distribution<double> n01;
-  for (const Vec3& p : random_cloud(spec.count, radius, exclusion, spec.solid_fraction, spec.seed)) {
+  for (const Vec3& p : cloud) {
     const Quat q = normalized(Quat{n01(rng), n01(rng), n01(rng), n01(rng)});  // uniform random orientation
     const Vec3 v = spec.initial_speed * normalized(Vec3{n01(rng), n01(rng), n01(rng)});
     sim.particles().add(t, {p, q, v, {}});

@@ -1,5 +1,7 @@
 #include "bushel/experiments/verification.hpp"
 
+#include "verification_common.hpp"
+
 #include <fmt/format.h>
 #include <cmath>
 #include <functional>
@@ -12,42 +14,8 @@
 #include "bushel/particles/template_library.hpp"
 
 namespace bushel::verification {
+using namespace detail;
 namespace {
-
-constexpr double pi = std::numbers::pi;
-constexpr double radius = 1.82e-3;  // the single-sphere large kernel, d = 3.64 mm
-
-double rayleigh(double r) {
-  const Material w = materials::wheat();
-  return rayleigh_time_step(r, w.density, w.shear_modulus, w.poisson_ratio);
-}
-
-ParticleType sphere(double r = radius) {
-  return {"grain", make_template("sphere", {{{0, 0, 0}, r}}), materials::wheat()};
-}
-
-SimulationSettings settings(double dt, ContactParameters p, Vec3 gravity = {}, const char* rolling = "cdt") {
-  SimulationSettings s;
-  s.dt = dt;
-  s.gravity = gravity;
-  s.rolling = rolling;
-  s.contacts = ContactTable(p);
-  return s;
-}
-
-Wall floor_wall() { return {"floor", PlaneShape{{0, 0, 0}, {0, 0, 1}}, materials::steel(), {}, {}}; }
-
-CheckResult result(std::string check, std::string quantity, double expected, double measured, double tolerance) {
-  CheckResult r{std::move(check), std::move(quantity), expected, measured, tolerance, false};
-  r.pass = r.error() <= tolerance;
-  return r;
-}
-
-// Equilibrium overlap of a sphere resting on a stiff plane under gravity g.
-double resting_overlap(const ParticleType& t, double g) {
-  const double e_star = effective_youngs_modulus(t.material, materials::steel());
-  return std::pow(t.mass() * g / (4.0 / 3.0 * e_star * std::sqrt(radius)), 2.0 / 3.0);
-}
 
 // Steps until a contact that has started is over; returns the number of steps in contact.
 std::uint64_t run_through_contact(Simulation& sim, const std::function<bool()>& touching, std::uint64_t max_steps) {
@@ -92,11 +60,11 @@ std::vector<CheckResult> restitution(const Options& o) {
       }
       {  // sphere onto the plane
         Simulation sim(settings(dt, {e, 0.0, 0.0}));
-        sim.add_wall(floor_wall());
+        sim.add_part(floor_wall());
         const auto t = sim.particles().add_type(sphere());
         sim.particles().add(t, {{0, 0, 1.02 * radius}, {}, {0, 0, -v}, {}});
         run_through_contact(
-            sim, [&] { return sim.wall(0).force.z != 0.0; }, 1'000'000);
+            sim, [&] { return sim.part(0).force.z != 0.0; }, 1'000'000);
         out.push_back(result(fmt::format("restitution sphere-wall e={:g} v={:g} m/s", e, v), "e [-]", e,
                              sim.particles().velocity[0].z / v, 0.03));
       }
@@ -131,8 +99,9 @@ std::vector<CheckResult> energy_conservation(const Options& o) {
   const double half = 6.0 * radius;
   const Vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   for (int a = 0; a < 3; ++a) {
-    sim.add_wall({"lo", PlaneShape{-half * axes[a], axes[a]}, materials::steel(), {}, {}});
-    sim.add_wall({"hi", PlaneShape{half * axes[a], -axes[a]}, materials::steel(), {}, {}});
+    const std::string axis(1, "xyz"[a]);
+    sim.add_part(plane_part("lo_" + axis, materials::steel(), -half * axes[a], axes[a]));
+    sim.add_part(plane_part("hi_" + axis, materials::steel(), half * axes[a], -axes[a]));
   }
   const auto t = sim.particles().add_type(sphere());
   std::mt19937_64 rng(2024);
@@ -143,8 +112,8 @@ std::vector<CheckResult> energy_conservation(const Options& o) {
   }
   auto any_contact = [&] {
     if (sim.contacts() > 0) return true;
-    for (std::size_t w = 0; w < sim.walls(); ++w) {
-      if (norm2(sim.wall(w).force) > 0.0) return true;
+    for (std::size_t w = 0; w < sim.parts(); ++w) {
+      if (norm2(sim.part(w).force) > 0.0) return true;
     }
     return false;
   };
@@ -164,7 +133,7 @@ std::vector<CheckResult> incline(const Options& o) {
   auto slope_acceleration = [&](const ParticleType& type, double theta_deg) {
     const double th = theta_deg * pi / 180.0;
     Simulation sim(settings(dt, {0.5, mu, 0.0}, {g * std::sin(th), 0, -g * std::cos(th)}));
-    sim.add_wall(floor_wall());
+    sim.add_part(floor_wall());
     const auto t = sim.particles().add_type(type);
     const double z = type.shape.extents().z / 2;
     sim.particles().add(t, {{0, 0, z}, {}, {}, {}});
@@ -208,7 +177,7 @@ std::vector<CheckResult> rolling_friction(const Options& o) {
     const ParticleType type = sphere();
     const double dt = 0.2 * rayleigh(radius);
     Simulation sim(settings(dt, {0.5, 0.5, mu_r}, {0, 0, -g}, model));
-    sim.add_wall(floor_wall());
+    sim.add_part(floor_wall());
     const auto t = sim.particles().add_type(type);
     const double z = radius - resting_overlap(type, g);
     sim.particles().add(t, {{0, 0, z}, {}, {v0, 0, 0}, {0, v0 / z, 0}});
@@ -243,7 +212,7 @@ std::vector<CheckResult> rest(const Options& o) {
   const ParticleType type = sphere();
   const double dt = 0.2 * rayleigh(radius);
   Simulation sim(settings(dt, {0.5, 0.27, 0.01}, {0, 0, -g}));
-  sim.add_wall(floor_wall());
+  sim.add_part(floor_wall());
   const auto t = sim.particles().add_type(type);
   const Vec3 start{0, 0, radius - resting_overlap(type, g)};
   sim.particles().add(t, {start, {}, {}, {}});
@@ -258,7 +227,7 @@ std::vector<CheckResult> rest(const Options& o) {
 std::vector<CheckResult> run_all(const Options& o) {
   std::vector<CheckResult> all;
   for (auto* check : {&restitution, &hertz_contact_time, &energy_conservation, &incline, &rolling_friction,
-                      &clump_free_rotation, &rest}) {
+                      &clump_free_rotation, &rest, &mesh_contact, &gate_turn, &servo_hold}) {
     auto r = check(o);
     all.insert(all.end(), r.begin(), r.end());
   }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <span>
@@ -12,6 +13,7 @@
 #include "bushel/contact/contact_batch.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/core/parallel.hpp"
+#include "bushel/geometry/part_contact.hpp"
 #include "bushel/integrate/rigid_rotation.hpp"
 
 namespace bushel {
@@ -28,10 +30,10 @@ bool is_isotropic(const Vec3& i) { return i.x == i.y && i.y == i.z; }
 // result slots need.
 struct LaneExtra {
   std::uint32_t element;  // the element on side i, whose own sums take the force
-  std::uint32_t item;     // pair index, or wall-candidate index
-  bool wall;              // a sphere-wall contact (side j is the wall)
+  std::uint32_t item;     // pair index, or part-candidate index
+  bool wall;              // a sphere-part contact (side j is the part)
   double* history;        // tangential displacement, then the rolling model's values
-  Vec3 arm_i, arm_j;      // contact point minus each centre of mass [m]
+  Vec3 arm_i, arm_j;      // contact point minus each centre of mass (a part: its origin) [m]
   Vec3 omega_i, omega_j;  // [rad/s], set only for rolling models that use them
   double arm_i_len, arm_j_len, inertia_r, mu_r;
 };
@@ -100,15 +102,18 @@ struct ContactViews {
   std::span<const Vec3> x_el, x_b, v_b, w_b, inertia;
   std::span<const double> radius, mass;
   std::span<const std::uint32_t> owner, sphere_count, species, first, second;
-  std::span<const std::uint32_t> wall_start, sphere_of_candidate, wall_of_candidate;
+  std::span<const std::uint32_t> wall_start, sphere_of_candidate, wall_of_candidate, candidate_face_start,
+      candidate_faces;
   double* history;
   double* wall_history;
+  std::span<std::uint8_t> wall_touches;
   std::span<std::uint8_t> active;
   std::span<Vec3> pair_force, pair_torque_j, element_force, element_torque, wall_reaction;
   std::span<double> pair_cdt_j, element_cdt;
   const PairCoefficients* coefficients;
   std::size_t n_species, n_types;
-  std::span<const Wall> walls;
+  std::span<const Part> parts;
+  std::span<const PartCache> part_cache;
   int h;
   double dt;
 };
@@ -125,10 +130,9 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
                           Lanes& lanes) {
   const ContactViews own = views;
   const auto [x_el, x_b, v_b, w_b, inertia, radius, mass, owner, sphere_count, species, first, second, wall_start,
-              sphere_of_candidate, wall_of_candidate, history, wall_history, active, pair_force, pair_torque_j,
-              element_force, element_torque, wall_reaction, pair_cdt_j, element_cdt, coefficient_data, n_species,
-              n_types, walls, h, dt] = own;
-  const std::size_t n_w = walls.size();
+              sphere_of_candidate, wall_of_candidate, candidate_face_start, candidate_faces, history, wall_history,
+              wall_touches, active, pair_force, pair_torque_j, element_force, element_torque, wall_reaction, pair_cdt_j,
+              element_cdt, coefficient_data, n_species, n_types, parts, part_cache, h, dt] = own;
   auto coefficients = [&](std::size_t a, std::size_t b) -> const PairCoefficients& {
     return coefficient_data[a * n_species + b];
   };
@@ -187,37 +191,74 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     return overlap / std::min(ri, rj);
   };
   // The same for a wall candidate, side i = the sphere.
+  // A part candidate's contacts (up to max_part_touches) go into the batch with side i = the
+  // sphere. Each takes the history slot whose stored normal is closest to its own, so that
+  // a contact sliding across the triangles of one part keeps its history. Returns the
+  // largest overlap ratio, or -1 if nothing touches.
+  const std::size_t slot_size = 3 + static_cast<std::size_t>(h);
   auto visit_wall = [&](std::size_t cw) -> double {
     const std::uint32_t s = sphere_of_candidate[cw], w = wall_of_candidate[cw];
     const std::uint32_t b = owner[s];
-    double* hist = wall_history + (s * n_w + w) * static_cast<std::size_t>(h);
-    const WallTouch t = touch(walls[w], x_el[s], radius[s]);
-    if (!t.touching) {
-      if (std::any_of(hist, hist + h, [](double v) { return v != 0.0; })) std::fill_n(hist, h, 0.0);
-      wall_reaction[2 * cw] = wall_reaction[2 * cw + 1] = Vec3{};
-      return -1.0;
+    const PartCache& pc = part_cache[w];
+    const Part& part = parts[w];
+    const Vec3 origin = part.pose.position;
+    std::array<PartTouch, max_part_touches> touches;
+    const int n = part_touches(
+        pc.faces,
+        candidate_faces.subspan(candidate_face_start[cw], candidate_face_start[cw + 1] - candidate_face_start[cw]),
+        transpose_times(pc.rotation, x_el[s] - origin), radius[s], touches);
+    double* slots = wall_history + cw * max_part_touches * slot_size;
+    wall_reaction[2 * cw] = wall_reaction[2 * cw + 1] = Vec3{};
+    wall_touches[cw] = static_cast<std::uint8_t>(n);
+    std::array<bool, max_part_touches> used{};
+    double max_ratio = -1.0;
+    for (int k = 0; k < n; ++k) {
+      const PartTouch& t = touches[static_cast<std::size_t>(k)];
+      const Vec3 normal = pc.rotation * t.normal, point = origin + pc.rotation * t.point;
+      // The slot: closest stored normal within 60 degrees, else a free one, else any unused.
+      int slot = -1;
+      double best = 0.5;
+      for (int j = 0; j < max_part_touches; ++j) {
+        const double c = dot(load3(slots + j * slot_size), normal);
+        if (!used[static_cast<std::size_t>(j)] && c > best) best = c, slot = j;
+      }
+      for (int j = 0; j < max_part_touches && slot < 0; ++j) {
+        if (!used[static_cast<std::size_t>(j)] && norm2(load3(slots + j * slot_size)) == 0.0) slot = j;
+      }
+      for (int j = 0; j < max_part_touches && slot < 0; ++j) {
+        if (!used[static_cast<std::size_t>(j)]) slot = j, std::fill_n(slots + j * slot_size, slot_size, 0.0);
+      }
+      used[static_cast<std::size_t>(slot)] = true;
+      double* hist = slots + static_cast<std::size_t>(slot) * slot_size;
+      store3(hist, normal);
+      const Vec3 arm = point - x_b[b];
+      const Vec3 v_part = part.twist.velocity + cross(part.twist.angular_velocity, point - origin);
+      const Vec3 v_rel = v_b[b] + cross(w_b[b], arm) - v_part;
+      const double arm_len = norm(arm);
+      const PairCoefficients& co = coefficients(species[s], n_types + w);
+      LaneExtra& e = lanes.next();
+      e.element = s;
+      e.item = static_cast<std::uint32_t>(cw);
+      e.wall = true;
+      e.history = hist + 3;
+      e.arm_i = arm;
+      e.arm_j = point - origin;  // for the reaction's torque about the part origin
+      if constexpr (Rolling::uses_spin) {
+        e.omega_i = w_b[b];
+        e.omega_j = part.twist.angular_velocity;
+      }
+      e.arm_i_len = arm_len;
+      e.arm_j_len = 0.0;
+      e.inertia_r = min_moment(inertia[b]) + mass[b] * arm_len * arm_len;
+      e.mu_r = co.rolling_friction;
+      lanes.push(normal, t.overlap, v_rel, radius[s], mass[b], co);
+      max_ratio = std::max(max_ratio, t.overlap / radius[s]);
     }
-    const Vec3 arm = t.point - x_b[b];
-    const Vec3 v_rel = v_b[b] + cross(w_b[b], arm);  // walls are still
-    const double arm_len = norm(arm);
-    const PairCoefficients& co = coefficients(species[s], n_types + w);
-    LaneExtra& e = lanes.next();
-    e.element = s;
-    e.item = static_cast<std::uint32_t>(cw);
-    e.wall = true;
-    e.history = hist;
-    e.arm_i = arm;
-    e.arm_j = t.point;  // for the reaction's torque about the origin
-    if constexpr (Rolling::uses_spin) {
-      e.omega_i = w_b[b];
-      e.omega_j = Vec3{};
+    for (int j = 0; j < max_part_touches; ++j) {  // contacts that ended start afresh
+      double* slot = slots + j * slot_size;       // (a slot in use has a non-zero normal)
+      if (!used[static_cast<std::size_t>(j)] && norm2(load3(slot)) != 0.0) std::fill_n(slot, slot_size, 0.0);
     }
-    e.arm_i_len = arm_len;
-    e.arm_j_len = 0.0;
-    e.inertia_r = min_moment(inertia[b]) + mass[b] * arm_len * arm_len;
-    e.mu_r = co.rolling_friction;
-    lanes.push(t.normal, t.overlap, v_rel, radius[s], mass[b], co);
-    return t.overlap / radius[s];
+    return max_ratio;
   };
   // Side i adds to its element's own sums (in pair order, then walls); side j's share goes to
   // the pair's slot, or to the wall's reaction.
@@ -225,9 +266,9 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     element_force[e.element] += f;
     element_torque[e.element] += cross(e.arm_i, f) + roll.torque_i;
     element_cdt[e.element] += roll.cdt_i;
-    if (e.wall) {
-      wall_reaction[2 * std::size_t{e.item}] = -f;
-      wall_reaction[2 * std::size_t{e.item} + 1] = cross(e.arm_j, -f) - roll.torque_i;
+    if (e.wall) {  // a candidate may have several contacts
+      wall_reaction[2 * std::size_t{e.item}] -= f;
+      wall_reaction[2 * std::size_t{e.item} + 1] += cross(e.arm_j, -f) - roll.torque_i;
     } else {
       pair_force[e.item] = f;
       pair_torque_j[e.item] = cross(e.arm_j, -f) + roll.torque_j;
@@ -247,10 +288,8 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     if (lanes.full()) lanes.finish<Rolling>(dt, write);
   }
   for (std::size_t cw = wall_start[e0]; cw < wall_start[e1]; ++cw) {
-    const double ratio = visit_wall(cw);
-    if (ratio < 0.0) continue;
-    r.max_ratio = std::max(r.max_ratio, ratio);
-    if (lanes.full()) lanes.finish<Rolling>(dt, write);
+    if (lanes.batch.size + max_part_touches > ContactBatch::capacity) lanes.finish<Rolling>(dt, write);
+    r.max_ratio = std::max(r.max_ratio, visit_wall(cw));
   }
   lanes.finish<Rolling>(dt, write);
   return r;
@@ -264,22 +303,83 @@ Simulation::Simulation(SimulationSettings settings)
   if (settings_.skin < 0.0) throw InputError("expected a non-negative skin").with_key("skin");
 }
 
-std::size_t Simulation::add_wall(Wall wall) {
-  validate(wall.material);
-  walls_.push_back(std::move(wall));
-  return walls_.size() - 1;
+std::size_t Simulation::add_part(Part part) {
+  const std::string key = "parts." + part.name;
+  if (part.name.empty()) throw InputError("expected a name for every geometry part").with_key("parts");
+  for (const Part& other : parts_) {
+    if (other.name == part.name) throw InputError("two geometry parts are called '" + part.name + "'").with_key(key);
+  }
+  try {
+    validate(part.material);
+    part.motion.validate();
+    PartCache cache;
+    cache.faces = faces_of(part.shape);
+    const bool plane = std::holds_alternative<PlaneSpec>(part.shape);
+    if (plane && std::any_of(part.motion.segments.begin(), part.motion.segments.end(),
+                             [](const MotionSegment& m) { return m.kind == MotionSegment::Kind::rotate; })) {
+      throw InputError("an infinite plane cannot rotate; use a plate or a disc").with_key("motion");
+    }
+    cache.lo = Vec3{INFINITY, INFINITY, INFINITY};
+    cache.hi = -1.0 * cache.lo;
+    for (const Face& f : cache.faces) {
+      Vec3 lo, hi;
+      bounds(f, lo, hi);
+      cache.lo = min(cache.lo, lo);
+      cache.hi = max(cache.hi, hi);
+    }
+    const Vec3 far = max(-1.0 * cache.lo, cache.hi);
+    cache.reach = plane ? std::numeric_limits<double>::infinity() : norm(far);
+    // A grid pays off once a sphere would otherwise test many faces.
+    cache.use_grid = cache.faces.size() > 16;
+    if (cache.use_grid) cache.grid = FaceGrid(cache.faces);
+    part.pose.orientation = normalized(part.pose.orientation);
+    cache.rotation = to_matrix(part.pose.orientation);
+    part.twist = twist_at(part.motion, 0.0, part.pose, time_);
+    part_cache_.push_back(std::move(cache));
+  } catch (const InputError& e) {
+    throw e.with_key(key);
+  }
+  parts_.push_back(std::move(part));
+  walls_changed_ = true;
+  return parts_.size() - 1;
+}
+
+std::size_t Simulation::part_index(const std::string& name) const {
+  std::string names;
+  for (std::size_t i = 0; i < parts_.size(); ++i) {
+    if (parts_[i].name == name) return i;
+    names += (i ? ", " : "") + parts_[i].name;
+  }
+  throw InputError("no geometry part called '" + name + "' (parts: " + names + ")").with_key("parts");
+}
+
+void Simulation::set_motion(std::size_t i, Motion motion) {
+  try {
+    motion.validate();
+  } catch (const InputError& e) {
+    throw e.with_key("parts." + parts_.at(i).name);
+  }
+  parts_.at(i).motion = std::move(motion);
+  parts_[i].servo = {};
+  parts_[i].twist = twist_at(parts_[i].motion, 0.0, parts_[i].pose, time_);
+}
+
+TriangleMesh Simulation::part_surface(std::size_t i, int segments, double plane_half_size) const {
+  TriangleMesh m = tessellate(part_cache_.at(i).faces, segments, plane_half_size);
+  for (Vec3& v : m.vertices) v = parts_[i].pose.position + part_cache_[i].rotation * v;
+  return m;
 }
 
 void Simulation::prepare() {
   const auto& types = particles_.types();
-  if (types.size() != prepared_types_ || walls_.size() != prepared_walls_) {
+  if (types.size() != prepared_types_ || parts_.size() != prepared_parts_) {
     std::vector<Species> species;
     std::vector<const Material*> materials;
     for (const auto& t : types) {
       species.push_back({t.name, t.material.name});
       materials.push_back(&t.material);
     }
-    for (const auto& w : walls_) {
+    for (const auto& w : parts_) {
       species.push_back({w.name, w.material.name});
       materials.push_back(&w.material);
     }
@@ -291,10 +391,6 @@ void Simulation::prepare() {
         c[i * n + j] = make_pair_coefficients(*materials[i], *materials[j], dense(i, j));
     }
     coefficients_ = PairCoefficientTable(n, std::move(c));
-    if (walls_.size() != prepared_walls_) {  // the history layout changes with the wall count
-      wall_history_.clear();
-      walls_changed_ = true;
-    }
     if (!neighbors_configured_ && !types.empty()) {
       // The default skin is 0.11 of the largest element diameter (0.40 mm for 3.64 mm
       // spheres): on the pour benchmark it ran the settled bed 13% faster than 0.25 d and the
@@ -310,11 +406,9 @@ void Simulation::prepare() {
       neighbors_configured_ = true;
     }
     prepared_types_ = types.size();
-    prepared_walls_ = walls_.size();
+    prepared_parts_ = parts_.size();
   }
-  const std::size_t h = static_cast<std::size_t>(neighbors_.history_size());
-  const std::size_t n_s = particles_.spheres(), n_w = walls_.size();
-  wall_history_.resize(n_s * n_w * h, 0.0);  // new elements append their (zero) history
+  const std::size_t n_s = particles_.spheres();
   element_force_.resize(n_s);
   element_torque_.resize(n_s);
   element_cdt_.resize(n_s);
@@ -341,15 +435,7 @@ void Simulation::spatial_sort() {
   std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(),
             [&](auto a, auto b) { return key[a] != key[b] ? key[a] < key[b] : ps.body_id[a] < ps.body_id[b]; });
-  const std::vector<std::uint32_t> sphere_order = ps.permute(order);
-  const std::size_t block = walls_.size() * static_cast<std::size_t>(neighbors_.history_size());
-  if (block > 0) {
-    std::vector<double> h(wall_history_.size());
-    for (std::size_t s = 0; s < sphere_order.size(); ++s) {
-      std::copy_n(wall_history_.data() + sphere_order[s] * block, block, h.data() + s * block);
-    }
-    wall_history_ = std::move(h);
-  }
+  ps.permute(order);  // part-contact histories follow the spheres' ids (find_part_candidates)
 }
 
 void Simulation::rebuild() {
@@ -358,32 +444,71 @@ void Simulation::rebuild() {
   }
   const auto& ps = particles_;
   neighbors_.build(ps.sphere_position, ps.radius, ps.owner, ps.sphere_id);
-  find_wall_candidates();
+  find_part_candidates();
   split_into_chunks();
 }
 
-void Simulation::find_wall_candidates() {
-  // Walls are still and no element moves more than half the skin before the next build, so
-  // a sphere further than the skin from a wall cannot reach it before then.
+void Simulation::find_part_candidates() {
+  // No element moves more than half the skin between builds, and a build is due when a part
+  // has moved half the skin (move_parts), so a sphere further than the skin from a face
+  // cannot reach it before the next build.
   const auto& ps = particles_;
-  const std::size_t n_s = ps.spheres(), n_w = walls_.size();
-  const auto h = static_cast<std::size_t>(neighbors_.history_size());
+  const std::size_t n_s = ps.spheres(), n_w = parts_.size();
+  const std::size_t slots = max_part_touches * (3 + static_cast<std::size_t>(neighbors_.history_size()));
   const double skin = neighbors_.skin();
+  // Histories of the last build, found again by (sphere id, part).
+  std::vector<std::uint32_t> old_first(
+      ps.sphere_id.empty() ? 0 : *std::max_element(ps.sphere_id.begin(), ps.sphere_id.end()) + 1, UINT32_MAX);
+  for (std::size_t c = candidate_sphere_id_.size(); c-- > 0;) {
+    if (candidate_sphere_id_[c] < old_first.size()) old_first[candidate_sphere_id_[c]] = static_cast<std::uint32_t>(c);
+  }
+  const std::vector<std::uint32_t> old_part = std::move(wall_of_candidate_), old_id = std::move(candidate_sphere_id_);
+  const std::vector<double> old_history = std::move(wall_history_);
   wall_start_.assign(n_s + 1, 0);
   wall_of_candidate_.clear();
   sphere_of_candidate_.clear();
+  candidate_sphere_id_.clear();
+  candidate_face_start_.assign(1, 0);
+  candidate_faces_.clear();
+  wall_history_.clear();
+  std::vector<std::uint32_t> near;
   for (std::size_t s = 0; s < n_s; ++s) {
+    const double reach = ps.radius[s] + skin;
     for (std::size_t w = 0; w < n_w; ++w) {
-      if (clearance(walls_[w], ps.sphere_position[s], ps.radius[s]) < skin) {
-        wall_of_candidate_.push_back(static_cast<std::uint32_t>(w));
-        sphere_of_candidate_.push_back(static_cast<std::uint32_t>(s));
-      } else {  // out of reach: any history left is stale
-        std::fill_n(wall_history_.data() + (s * n_w + w) * h, h, 0.0);
+      const PartCache& pc = part_cache_[w];
+      const Vec3 p = transpose_times(pc.rotation, ps.sphere_position[s] - parts_[w].pose.position);
+      if (p.x < pc.lo.x - reach || p.y < pc.lo.y - reach || p.z < pc.lo.z - reach || p.x > pc.hi.x + reach ||
+          p.y > pc.hi.y + reach || p.z > pc.hi.z + reach) {
+        continue;
+      }
+      near.clear();
+      if (pc.use_grid) {
+        pc.grid.query(p, reach, near);
+      } else {
+        for (std::size_t f = 0; f < pc.faces.size(); ++f) near.push_back(static_cast<std::uint32_t>(f));
+      }
+      const std::size_t first_face = candidate_faces_.size();
+      for (const std::uint32_t f : near) {
+        if (nearest(pc.faces[f], p).distance < reach) candidate_faces_.push_back(f);
+      }
+      if (candidate_faces_.size() == first_face) continue;
+      candidate_face_start_.push_back(static_cast<std::uint32_t>(candidate_faces_.size()));
+      wall_of_candidate_.push_back(static_cast<std::uint32_t>(w));
+      sphere_of_candidate_.push_back(static_cast<std::uint32_t>(s));
+      candidate_sphere_id_.push_back(ps.sphere_id[s]);
+      const std::size_t at = wall_history_.size();
+      wall_history_.resize(at + slots, 0.0);
+      const std::uint32_t id = ps.sphere_id[s];
+      for (std::size_t c = id < old_first.size() ? old_first[id] : UINT32_MAX; c < old_id.size() && old_id[c] == id;
+           ++c) {
+        if (old_part[c] == w) std::copy_n(old_history.data() + c * slots, slots, wall_history_.data() + at);
       }
     }
     wall_start_[s + 1] = static_cast<std::uint32_t>(wall_of_candidate_.size());
   }
   wall_reaction_.assign(2 * wall_of_candidate_.size(), Vec3{});
+  wall_touches_.assign(wall_of_candidate_.size(), 0);
+  for (PartCache& pc : part_cache_) pc.moved = 0.0;
   walls_changed_ = false;
 }
 
@@ -432,8 +557,11 @@ void Simulation::compute_forces(const Rolling&) {
                            wall_start_,
                            sphere_of_candidate_,
                            wall_of_candidate_,
+                           candidate_face_start_,
+                           candidate_faces_,
                            neighbors_.all_history().data(),
                            wall_history_.data(),
+                           wall_touches_,
                            pair_active_,
                            pair_force_,
                            pair_torque_j_,
@@ -445,7 +573,8 @@ void Simulation::compute_forces(const Rolling&) {
                            coefficients_.size() > 0 ? &coefficients_(0, 0) : nullptr,
                            coefficients_.size(),
                            ps.types().size(),
-                           walls_,
+                           parts_,
+                           part_cache_,
                            neighbors_.history_size(),
                            dt};
 
@@ -467,7 +596,7 @@ void Simulation::compute_forces(const Rolling&) {
       touching += r.touching;
     }
   }
-  sum_wall_reactions();
+  sum_part_reactions();
 
   // --- gather onto bodies, in a fixed order -------------------------------------------------
   const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
@@ -496,33 +625,56 @@ void Simulation::compute_forces(const Rolling&) {
   forces_valid_ = true;
 }
 
-void Simulation::sum_wall_reactions() {
+void Simulation::sum_part_reactions() {
   // Fixed chunks of candidates, summed in order: the same sums for any thread count, without
   // a serial pass over every candidate.
-  const std::size_t n_w = walls_.size(), n_c = wall_of_candidate_.size();
+  const std::size_t n_w = parts_.size(), n_c = wall_of_candidate_.size();
   if (n_w == 0) return;
   constexpr std::size_t chunks = 64;
   const std::size_t per_chunk = (n_c + chunks - 1) / chunks;
-  wall_partial_.assign(2 * chunks * n_w, Vec3{});
+  wall_partial_.assign(3 * chunks * n_w, Vec3{});  // force, torque, (touches, 0, 0)
   const auto nc = static_cast<std::ptrdiff_t>(chunks);
 #pragma omp parallel for schedule(static) if (static_cast <std::ptrdiff_t>(n_c) > parallel_threshold)
   for (std::ptrdiff_t sc = 0; sc < nc; ++sc) {
     const auto k = static_cast<std::size_t>(sc);
-    Vec3* out = wall_partial_.data() + 2 * k * n_w;
+    Vec3* out = wall_partial_.data() + 3 * k * n_w;
     for (std::size_t c = k * per_chunk; c < std::min(n_c, (k + 1) * per_chunk); ++c) {
       const std::uint32_t w = wall_of_candidate_[c];
-      out[2 * w] += wall_reaction_[2 * c];
-      out[2 * w + 1] += wall_reaction_[2 * c + 1];
+      out[3 * w] += wall_reaction_[2 * c];
+      out[3 * w + 1] += wall_reaction_[2 * c + 1];
+      out[3 * w + 2].x += wall_touches_[c];
     }
   }
   for (std::size_t w = 0; w < n_w; ++w) {
     Vec3 f, t;
+    double touches = 0.0;
     for (std::size_t k = 0; k < chunks; ++k) {
-      f += wall_partial_[2 * (k * n_w + w)];
-      t += wall_partial_[2 * (k * n_w + w) + 1];
+      f += wall_partial_[3 * (k * n_w + w)];
+      t += wall_partial_[3 * (k * n_w + w) + 1];
+      touches += wall_partial_[3 * (k * n_w + w) + 2].x;
     }
-    walls_[w].force = f;
-    walls_[w].torque = t;
+    parts_[w].force = f;
+    parts_[w].torque = t;
+    parts_[w].touches = static_cast<std::size_t>(touches);
+  }
+}
+
+void Simulation::move_parts(double t, double dt) {
+  for (std::size_t w = 0; w < parts_.size(); ++w) {
+    Part& part = parts_[w];
+    if (part.motion.empty()) continue;
+    PartCache& pc = part_cache_[w];
+    pc.moved += advance(part.motion, part.servo.speed, part.pose, t, dt, pc.reach);
+    pc.rotation = to_matrix(part.pose.orientation);
+    part.twist = twist_at(part.motion, part.servo.speed, part.pose, t + dt);
+    // A face may now be up to `moved` closer to a sphere than at the last build.
+    if (pc.moved > 0.5 * neighbors_.skin()) walls_changed_ = true;
+  }
+}
+
+void Simulation::update_servos() {
+  for (Part& part : parts_) {
+    if (part.motion.has_servo) part.servo = update_servo(part.motion.servo, part.servo, part.force, time_);
   }
 }
 
@@ -618,17 +770,22 @@ void Simulation::step(std::uint64_t n) {
   const double dt = settings_.dt;
   for (std::uint64_t k = 0; k < n; ++k) {
     if (settings_.integrator == Integrator::velocity_verlet) {
-      if (!forces_valid_) compute_forces();
+      if (!forces_valid_) compute_forces(), update_servos();
       kick(0.5 * dt);
       drift(dt);
+      move_parts(time_, dt);
+      time_ += dt;
       compute_forces();
+      update_servos();
       kick(0.5 * dt);
     } else {
       compute_forces();
+      update_servos();
       kick(dt);
       drift(dt);
+      move_parts(time_, dt);
+      time_ += dt;
     }
-    time_ += dt;
     ++steps_;
   }
 }

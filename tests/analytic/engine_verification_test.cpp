@@ -24,6 +24,9 @@ TEST(EngineVerification, Incline) { expect_all_pass(incline(quick)); }
 TEST(EngineVerification, RollingFriction) { expect_all_pass(rolling_friction(quick)); }
 TEST(EngineVerification, ClumpFreeRotation) { expect_all_pass(clump_free_rotation(quick)); }
 TEST(EngineVerification, AtRestStaysAtRest) { expect_all_pass(rest(quick)); }
+TEST(GeometryVerification, MeshContactsMatchThePlane) { expect_all_pass(mesh_contact(quick)); }
+TEST(GeometryVerification, GateTurnsExactly) { expect_all_pass(gate_turn(quick)); }
+TEST(GeometryVerification, ServoLidHoldsPressure) { expect_all_pass(servo_hold(quick)); }
 
 }  // namespace
 }  // namespace bushel::verification

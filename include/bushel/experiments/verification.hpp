@@ -31,6 +31,9 @@ std::vector<CheckResult> incline(const Options& o);              ///< stick belo
 std::vector<CheckResult> rolling_friction(const Options& o);     ///< CDT deceleration 5/7 mu_r g
 std::vector<CheckResult> clump_free_rotation(const Options& o);  ///< energy and |L| of a torque-free clump
 std::vector<CheckResult> rest(const Options& o);                 ///< at rest stays at rest for 1e5 steps
+std::vector<CheckResult> mesh_contact(const Options& o);         ///< plane vs mesh face/edge/vertex; rolling over edges
+std::vector<CheckResult> gate_turn(const Options& o);            ///< a scheduled 180-degree turn is exact
+std::vector<CheckResult> servo_hold(const Options& o);           ///< a servo lid holds 10 kPa on a bed within 1%
 
 /// Every check above, in that order.
 std::vector<CheckResult> run_all(const Options& o);

@@ -3,12 +3,14 @@
 // (ARCHITECTURE.md, "Time step"). One step:
 //   1. rebuild the neighbour list if needed (spatially sorting the particles every few builds)
 //   2. contacts, in parallel over fixed runs of elements (each about one batch of 128
-//      contacts): every element sums its own pairs (as first element) and its nearby walls;
-//      the share of each pair's second element goes to the pair's slot. The contact law runs
-//      over the batch at once (contact_batch.hpp).
+//      contacts): every element sums its own pairs (as first element) and its nearby
+//      geometry parts (part_contact.hpp: one contact per touch of a part's surface); the share
+//      of each pair's second element goes to the pair's slot. The contact law runs over the
+//      batch at once (contact_batch.hpp).
 //   3. gather onto bodies in a fixed order (thread-count independent): the elements' own
 //      sums plus the slots of pairs in which they are second
 //   4. integrate (symplectic Euler or velocity Verlet; quaternion rigid rotation)
+//   5. move the geometry parts (motion.hpp), servos acting on the forces of step 2
 
 #include <cstdint>
 #include <string>
@@ -18,7 +20,9 @@
 #include "bushel/contact/contact_table.hpp"
 #include "bushel/contact/neighbor_list.hpp"
 #include "bushel/contact/pair_coefficients.hpp"
-#include "bushel/geometry/wall.hpp"
+#include "bushel/core/mat3.hpp"
+#include "bushel/geometry/face_grid.hpp"
+#include "bushel/geometry/part.hpp"
 #include "bushel/particles/particle_system.hpp"
 
 namespace bushel {
@@ -38,16 +42,35 @@ struct SimulationSettings {
   ContactTable contacts;        ///< restitution, friction, rolling friction per pair
 };
 
+/// A part's faces and broad phase in its own frame, and where the frame is now (internal to
+/// the simulation; public so that the contact loop can read it).
+struct PartCache {
+  std::vector<Face> faces;
+  FaceGrid grid;  ///< used when the part has many faces (a mesh)
+  bool use_grid = false;
+  Vec3 lo, hi;         ///< bounds of the faces in the part frame [m]
+  double reach = 0.0;  ///< largest distance of a face point from the part origin [m] (inf: a plane)
+  Mat3 rotation;       ///< part frame -> world, now
+  double moved = 0.0;  ///< bound on the displacement of any point since the last build [m]
+};
+
 class Simulation {
  public:
   explicit Simulation(SimulationSettings settings);
 
   ParticleSystem& particles() { return particles_; }
   const ParticleSystem& particles() const { return particles_; }
-  /// Adds a wall; returns its index.
-  std::size_t add_wall(Wall wall);
-  const Wall& wall(std::size_t i) const { return walls_[i]; }
-  std::size_t walls() const { return walls_.size(); }
+  /// Adds a geometry part; returns its index. Throws InputError (key "parts.<name>...") for
+  /// a bad shape, material or motion, or a plane that is told to rotate.
+  std::size_t add_part(Part part);
+  const Part& part(std::size_t i) const { return parts_[i]; }
+  std::size_t parts() const { return parts_.size(); }
+  /// Index of the part called `name`; throws InputError listing the names if there is none.
+  std::size_t part_index(const std::string& name) const;
+  /// Replaces a part's motion from now on (validated as in add_part).
+  void set_motion(std::size_t i, Motion motion);
+  /// Faces of a part in the world at its current pose, as triangles (for export).
+  TriangleMesh part_surface(std::size_t i, int segments = 64, double plane_half_size = 0.1) const;
 
   /// Advances `n` steps.
   void step(std::uint64_t n = 1);
@@ -64,23 +87,26 @@ class Simulation {
  private:
   void prepare();
   void rebuild();
-  void find_wall_candidates();
+  void find_part_candidates();
+  void move_parts(double t, double dt);
+  void update_servos();
   void split_into_chunks();
   void spatial_sort();
   template <class Rolling>
   void compute_forces(const Rolling&);
   void compute_forces();
-  void sum_wall_reactions();
+  void sum_part_reactions();
   void kick(double dt);
   void drift(double dt);
 
   SimulationSettings settings_;
   RollingModel rolling_;
   ParticleSystem particles_;
-  std::vector<Wall> walls_;
+  std::vector<Part> parts_;
+  std::vector<PartCache> part_cache_;
   NeighborList neighbors_;
   PairCoefficientTable coefficients_;
-  std::size_t prepared_types_ = 0, prepared_walls_ = 0;
+  std::size_t prepared_types_ = 0, prepared_parts_ = 0;
   bool forces_valid_ = false;
   int rebuild_due_ = -1;  // from the last drift: 1 yes, 0 no, -1 unknown (check every element)
   bool neighbors_configured_ = false;
@@ -95,13 +121,16 @@ class Simulation {
   std::vector<Vec3> element_force_, element_torque_;
   std::vector<double> element_cdt_;
   std::vector<std::uint32_t> chunk_start_;  // elements split into runs of about one batch of contacts
-  // sphere-wall: history dense over [(s * walls + w) * h]; candidates (spheres within the
-  // skin of a wall at the last build) grouped by sphere (CSR), with their results
+  // sphere-part candidates (spheres within the skin of a part's faces at the last build),
+  // grouped by sphere (CSR), each with its nearby faces and max_part_touches history slots
+  // of [normal (3), contact-law history] keyed by the contact's normal
+  std::vector<std::uint32_t> wall_start_, wall_of_candidate_, sphere_of_candidate_, candidate_sphere_id_;
+  std::vector<std::uint32_t> candidate_face_start_, candidate_faces_;
   std::vector<double> wall_history_;
-  std::vector<std::uint32_t> wall_start_, wall_of_candidate_, sphere_of_candidate_;
-  std::vector<Vec3> wall_reaction_;  // [2 c]: force on the wall, its torque about the origin
-  std::vector<Vec3> wall_partial_;   // per-chunk sums of wall_reaction_
-  bool walls_changed_ = true;        // the candidates must be found again
+  std::vector<Vec3> wall_reaction_;         // [2 c]: force on the part, its torque about the part origin
+  std::vector<std::uint8_t> wall_touches_;  // [c]: contacts in the last step
+  std::vector<Vec3> wall_partial_;          // per-chunk sums of wall_reaction_
+  bool walls_changed_ = true;               // the candidates must be found again
 
   double time_ = 0.0;
   std::uint64_t steps_ = 0;

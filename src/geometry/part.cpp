@@ -1,0 +1,30 @@
+#include "bushel/geometry/part.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <utility>
+
+namespace bushel {
+
+Part make_part(std::string name, ShapeSpec shape, Material material, Pose pose) {
+  Part p;
+  p.name = std::move(name);
+  p.shape = std::move(shape);
+  p.material = std::move(material);
+  p.pose = pose;
+  return p;
+}
+
+Part plane_part(std::string name, Material material, const Vec3& point, const Vec3& normal) {
+  return make_part(std::move(name), PlaneSpec{}, std::move(material), {point, orientation_towards(normal)});
+}
+
+Quat orientation_towards(const Vec3& direction) {
+  const Vec3 z{0, 0, 1}, d = normalized(direction);
+  const Vec3 axis = cross(z, d);
+  const double s = norm(axis), c = dot(z, d);
+  if (s < 1e-12) return c > 0.0 ? Quat::identity() : Quat::from_axis_angle({1, 0, 0}, std::numbers::pi);
+  return Quat::from_axis_angle(axis / s, std::atan2(s, c));
+}
+
+}  // namespace bushel
