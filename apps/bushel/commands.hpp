@@ -13,6 +13,11 @@ void add_particle_command(CLI::App& app);
 void add_kernel_command(CLI::App& app);
 void add_verify_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
+/// `demo funnel`, registered on the `demo` sub-command.
+void add_demo_funnel_command(CLI::App& demo);
+
+/// Sets the OpenMP thread count (0 keeps the default).
+void set_threads(int threads);
 
 /// Parses a quantity given on the command line, naming the option in the error.
 double option_quantity(const std::string& option, const std::string& text, units::Dimension expected);

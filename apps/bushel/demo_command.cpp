@@ -1,11 +1,11 @@
+#include <fmt/format.h>
+#include <unistd.h>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fmt/format.h>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numbers>
-#include <unistd.h>
 
 #include "bushel/core/input_error.hpp"
 #include "bushel/experiments/pour_scene.hpp"
@@ -46,9 +46,7 @@ BedMeasure measure_bed(const PourScene& scene, double fraction) {
 }
 
 void run_demo(const DemoOptions& o) {
-#ifdef BUSHEL_HAVE_OPENMP
-  if (o.threads > 0) omp_set_num_threads(o.threads);
-#endif
+  set_threads(o.threads);
   const double max_time = option_quantity("--max-time", o.max_time, units::dim::time);
   // Kinetic energy per particle in J: a plain number, since the units layer has no energies.
   double settled = 0.0;
@@ -110,6 +108,14 @@ void run_demo(const DemoOptions& o) {
 
 }  // namespace
 
+void set_threads(int threads) {
+#ifdef BUSHEL_HAVE_OPENMP
+  if (threads > 0) omp_set_num_threads(threads);
+#else
+  (void)threads;
+#endif
+}
+
 void add_demo_command(CLI::App& app) {
   auto o = std::make_shared<DemoOptions>();
   auto* demo = app.add_subcommand("demo", "Scenario-free demonstrations of the engine");
@@ -124,6 +130,7 @@ void add_demo_command(CLI::App& app) {
   pour->add_option("--threads", o->threads, "OpenMP threads (0 = default)")->capture_default_str();
   pour->add_flag("--json", o->json, "Print the result as JSON");
   pour->callback([o] { run_demo(*o); });
+  add_demo_funnel_command(*demo);
 }
 
 }  // namespace bushel::cli

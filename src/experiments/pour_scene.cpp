@@ -62,29 +62,41 @@ std::vector<Vec3> random_cloud(std::size_t count, double radius, double exclusio
   return points;
 }
 
+ParticleType wheat_particle(const std::string& particle) {
+  return {
+      particle,
+      particle == "sphere" ? make_template("sphere", {{{0, 0, 0}, 1.82e-3}}) : TemplateLibrary::builtin().get(particle),
+      materials::wheat()};
+}
+
+double rayleigh_step(const ParticleType& type) {
+  const Material& m = type.material;
+  return rayleigh_time_step(type.shape.min_sphere_radius(), m.density, m.shear_modulus, m.poisson_ratio);
+}
+
+SimulationSettings wheat_settings(double dt, const std::string& rolling, double skin) {
+  SimulationSettings s;
+  s.dt = dt;
+  s.rolling = rolling;
+  s.skin = skin;
+  s.contacts = ContactTable({0.5, 0.27, 0.01});
+  s.contacts.set("wheat", "steel", {0.33, 0.17, 0.01});
+  return s;
+}
+
 PourScene make_pour_scene(const PourSpec& spec) {
   if (spec.count == 0) throw InputError("expected at least one particle").with_key("count");
   if (!(spec.dt_fraction > 0.0 && spec.dt_fraction <= 1.0)) {
     throw InputError("expected a fraction of the Rayleigh step in (0, 1]").with_key("dt_fraction");
   }
-  const Material wheat = materials::wheat(), steel = materials::steel();
-  ParticleType type{spec.particle,
-                    spec.particle == "sphere" ? make_template("sphere", {{{0, 0, 0}, 1.82e-3}})
-                                              : TemplateLibrary::builtin().get(spec.particle),
-                    wheat};
-  const double t_r =
-      rayleigh_time_step(type.shape.min_sphere_radius(), wheat.density, wheat.shear_modulus, wheat.poisson_ratio);
+  const Material steel = materials::steel();
+  ParticleType type = wheat_particle(spec.particle);
+  const double t_r = rayleigh_step(type);
   const double diameter = spec.container_diameter > 0.0 ? spec.container_diameter
                                                         : 0.090 * std::cbrt(static_cast<double>(spec.count) / 1e4);
   const double radius = 0.5 * diameter;
 
-  SimulationSettings s;
-  s.dt = spec.dt_fraction * t_r;
-  s.rolling = spec.rolling;
-  s.skin = spec.skin;
-  s.contacts = ContactTable({0.5, 0.27, 0.01});
-  s.contacts.set("wheat", "steel", {0.33, 0.17, 0.01});
-  PourScene scene{Simulation(std::move(s)), radius, t_r};
+  PourScene scene{Simulation(wheat_settings(spec.dt_fraction * t_r, spec.rolling, spec.skin)), radius, t_r};
   Simulation& sim = scene.simulation;
   // Exclusion diameter: the bounding sphere, rounded up (6.2 mm for the 5-sphere kernels).
   const double exclusion = spec.particle == "sphere" ? 3.64e-3 : 2.0 * type.shape.bounding_radius() * 1.013;

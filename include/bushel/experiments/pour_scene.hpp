@@ -12,6 +12,15 @@
 
 namespace bushel {
 
+/// A wheat kernel: "sphere" (d = 3.64 mm) or a template name (e.g. large_5s), wheat material.
+ParticleType wheat_particle(const std::string& particle);
+/// Rayleigh time step of a type's smallest element [s].
+double rayleigh_step(const ParticleType& type);
+/// Settings of the wheat scenes: time step dt [s], the rolling model, the Verlet skin [m]
+/// (0 = default), and the pour benchmark's contact table (wheat-wheat e 0.5, fs 0.27, fr 0.01;
+/// wheat-steel 0.33, 0.17, 0.01).
+SimulationSettings wheat_settings(double dt, const std::string& rolling = "cdt", double skin = 0.0);
+
 struct PourSpec {
   std::size_t count = 10'000;       ///< number of particles
   std::string particle = "sphere";  ///< "sphere" (d = 3.64 mm) or a template name (e.g. large_5s)

@@ -1,0 +1,29 @@
+#pragma once
+// Frames of a run for ParaView: at each call, the sphere elements (points with radius,
+// velocity and body id) and the geometry parts at their current pose (triangles with the
+// part index and name order of the simulation) go to DIR/particles_NNNNN.vtu and
+// DIR/geometry_NNNNN.vtu; particles.pvd and geometry.pvd put the frames on the time axis and
+// are rewritten (atomically) after every frame, so an interrupted run leaves a readable set.
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bushel/integrate/simulation.hpp"
+
+namespace bushel::io {
+
+class FrameWriter {
+ public:
+  /// Creates `directory` if needed; throws InputError if it cannot.
+  explicit FrameWriter(std::string directory);
+  /// Writes the simulation's current state as the next frame.
+  void write(const Simulation& sim);
+  std::size_t frames() const { return frames_.size(); }
+
+ private:
+  std::string directory_;
+  std::vector<std::pair<double, std::string>> frames_, geometry_frames_;
+};
+
+}  // namespace bushel::io

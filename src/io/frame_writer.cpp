@@ -1,0 +1,57 @@
+#include "bushel/io/frame_writer.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "bushel/core/input_error.hpp"
+#include "bushel/io/vtu.hpp"
+
+namespace bushel::io {
+
+FrameWriter::FrameWriter(std::string directory) : directory_(std::move(directory)) {
+  std::error_code ec;
+  std::filesystem::create_directories(directory_, ec);
+  if (ec) throw InputError("cannot create the output directory: " + ec.message()).at(directory_);
+}
+
+void FrameWriter::write(const Simulation& sim) {
+  const ParticleSystem& ps = sim.particles();
+  VtuPiece particles = point_cloud_piece(ps.sphere_position);
+  VtuArray radius{"radius_m", 1, ps.radius}, velocity{"velocity_m_s", 3, {}}, body{"body_id", 1, {}};
+  velocity.values.reserve(3 * ps.spheres());
+  body.values.reserve(ps.spheres());
+  for (std::size_t s = 0; s < ps.spheres(); ++s) {
+    const std::uint32_t b = ps.owner[s];
+    // The element's own velocity: the body's plus its spin about the centre of mass.
+    const Vec3 v = ps.velocity[b] + cross(ps.angular_velocity[b], ps.sphere_position[s] - ps.position[b]);
+    velocity.values.insert(velocity.values.end(), {v.x, v.y, v.z});
+    body.values.push_back(ps.body_id[b]);
+  }
+  particles.point_data = {std::move(radius), std::move(velocity), std::move(body)};
+
+  TriangleMesh all;
+  VtuArray part{"part", 1, {}};
+  for (std::size_t i = 0; i < sim.parts(); ++i) {
+    const TriangleMesh m = sim.part_surface(i);
+    const auto base = static_cast<std::uint32_t>(all.vertices.size());
+    all.vertices.insert(all.vertices.end(), m.vertices.begin(), m.vertices.end());
+    for (const auto& t : m.triangles) {
+      all.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+      part.values.push_back(static_cast<double>(i));
+    }
+  }
+  VtuPiece geometry = surface_piece(all);
+  geometry.cell_data.push_back(std::move(part));
+
+  const std::size_t k = frames_.size();
+  const std::string pname = fmt::format("particles_{:05d}.vtu", k), gname = fmt::format("geometry_{:05d}.vtu", k);
+  write_vtu(directory_ + "/" + pname, particles);
+  write_vtu(directory_ + "/" + gname, geometry);
+  frames_.emplace_back(sim.time(), pname);
+  geometry_frames_.emplace_back(sim.time(), gname);
+  write_pvd(directory_ + "/particles.pvd", frames_);
+  write_pvd(directory_ + "/geometry.pvd", geometry_frames_);
+}
+
+}  // namespace bushel::io
