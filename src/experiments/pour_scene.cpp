@@ -103,7 +103,11 @@ PourScene make_pour_scene(const PourSpec& spec) {
   const std::vector<Vec3> cloud = random_cloud(spec.count, radius, exclusion, spec.solid_fraction, spec.seed);
   double top = 0.0;
   for (const Vec3& p : cloud) top = std::max(top, p.z);
-  sim.add_part(plane_part("bottom", steel, {0, 0, 0}, {0, 0, 1}));
+  if (spec.bottom_mesh_cells > 0) {  // the same floor as triangles (the mesh benchmark)
+    sim.add_part(make_part("bottom", MeshSpec{square_mesh(diameter + 0.01, spec.bottom_mesh_cells), "square mesh"}, steel));
+  } else {
+    sim.add_part(plane_part("bottom", steel, {0, 0, 0}, {0, 0, 1}));
+  }
   sim.add_part(make_part("side", CylinderSpec{radius, top + diameter, inside}, steel));
   const auto t = sim.particles().add_type(std::move(type));
   std::mt19937_64 rng(spec.seed ^ 0x9e3779b97f4a7c15ULL);
