@@ -1,7 +1,9 @@
 // STL reading and writing: binary/ASCII detection, welding, degenerate triangles, errors that
 // point at the file and line, and round trips through the writer.
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include "unit/temp_dir_test.hpp"
 
 #include <array>
 #include <bit>
@@ -91,19 +93,7 @@ double as_float32(double x) {
   return static_cast<double>(f);
 }
 
-// A fresh directory per test, removed at the end.
-class StlFiles : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() / ("bushel_stl_" + std::to_string(::getpid()) + "_" +
-                                                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string path(const std::string& leaf) const { return (dir_ / leaf).string(); }
-  std::filesystem::path dir_;
-};
+class StlFiles : public TempDirTest {};
 
 TEST(Stl, AsciiCubeWeldsToEightVertices) {
   StlReport report;

@@ -1,7 +1,9 @@
 // VTK XML output: the numbers in the file are the numbers given (read back with plain string
 // search, so the test needs no XML library), and pieces that do not fit together are refused.
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include "unit/temp_dir_test.hpp"
 
 #include <charconv>
 #include <filesystem>
@@ -158,18 +160,7 @@ TEST(Vtu, MismatchedSizesThrow) {
   EXPECT_THROW(surface_piece(broken), std::invalid_argument);
 }
 
-class VtuFiles : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() / ("bushel_vtu_" + std::to_string(::getpid()) + "_" +
-                                                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string path(const std::string& leaf) const { return (dir_ / leaf).string(); }
-  std::filesystem::path dir_;
-};
+class VtuFiles : public TempDirTest {};
 
 TEST_F(VtuFiles, WrittenFileReadsBack) {
   VtuPiece p = surface_piece(square());
