@@ -34,7 +34,7 @@ bool before(const Offer& a, const Offer& b) {
 }  // namespace
 
 int part_touches(std::span<const Face> faces, std::span<const std::uint32_t> candidates, const Vec3& p, double r,
-                 std::array<PartTouch, max_part_touches>& out) {
+                 std::array<PartTouch, max_part_touches>& out, std::span<const double> distances, double moved) {
   if (candidates.size() == 1) {  // the common case: a plane, a cylinder band, one facet
     Offer o;
     if (!offer(faces[candidates[0]], candidates[0], p, r, o)) return 0;
@@ -46,7 +46,11 @@ int part_touches(std::span<const Face> faces, std::span<const std::uint32_t> can
   constexpr int capacity = 32;
   Offer offers[capacity];  // NOLINT: filled before use
   int n = 0;
-  for (const std::uint32_t f : candidates) {
+  // The distance to a face changes by at most `moved` since the list was made.
+  const bool bounded = !distances.empty();
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (bounded && distances[k] - moved >= r) continue;
+    const std::uint32_t f = candidates[k];
     Offer o;
     if (!offer(faces[f], f, p, r, o)) continue;
     if (n < capacity) {

@@ -104,6 +104,7 @@ struct ContactViews {
   std::span<const std::uint32_t> owner, sphere_count, species, first, second;
   std::span<const std::uint32_t> wall_start, sphere_of_candidate, wall_of_candidate, candidate_face_start,
       candidate_faces;
+  std::span<const double> candidate_face_distance, element_moved2;
   double* history;
   double* wall_history;
   std::span<std::uint8_t> wall_touches;
@@ -130,9 +131,10 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
                           Lanes& lanes) {
   const ContactViews own = views;
   const auto [x_el, x_b, v_b, w_b, inertia, radius, mass, owner, sphere_count, species, first, second, wall_start,
-              sphere_of_candidate, wall_of_candidate, candidate_face_start, candidate_faces, history, wall_history,
-              wall_touches, active, pair_force, pair_torque_j, element_force, element_torque, wall_reaction, pair_cdt_j,
-              element_cdt, coefficient_data, n_species, n_types, parts, part_cache, h, dt] = own;
+              sphere_of_candidate, wall_of_candidate, candidate_face_start, candidate_faces, candidate_face_distance,
+              element_moved2, history, wall_history, wall_touches, active, pair_force, pair_torque_j, element_force,
+              element_torque, wall_reaction, pair_cdt_j, element_cdt, coefficient_data, n_species, n_types, parts,
+              part_cache, h, dt] = own;
   auto coefficients = [&](std::size_t a, std::size_t b) -> const PairCoefficients& {
     return coefficient_data[a * n_species + b];
   };
@@ -203,10 +205,11 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     const Part& part = parts[w];
     const Vec3 origin = part.pose.position;
     std::array<PartTouch, max_part_touches> touches;
+    const std::size_t f0 = candidate_face_start[cw], nf = candidate_face_start[cw + 1] - f0;
+    // Faces further than the sphere and the part have moved since the build are skipped.
     const int n = part_touches(
-        pc.faces,
-        candidate_faces.subspan(candidate_face_start[cw], candidate_face_start[cw + 1] - candidate_face_start[cw]),
-        transpose_times(pc.rotation, x_el[s] - origin), radius[s], touches);
+        pc.faces, candidate_faces.subspan(f0, nf), transpose_times(pc.rotation, x_el[s] - origin), radius[s], touches,
+        candidate_face_distance.subspan(f0, nf), nf > 1 ? std::sqrt(element_moved2[s]) + pc.moved : 0.0);
     double* slots = wall_history + cw * max_part_touches * slot_size;
     wall_reaction[2 * cw] = wall_reaction[2 * cw + 1] = Vec3{};
     wall_touches[cw] = static_cast<std::uint8_t>(n);
@@ -470,6 +473,8 @@ void Simulation::find_part_candidates() {
   candidate_sphere_id_.clear();
   candidate_face_start_.assign(1, 0);
   candidate_faces_.clear();
+  candidate_face_distance_.clear();
+  element_moved2_.assign(n_s, 0.0);
   wall_history_.clear();
   std::vector<std::uint32_t> near;
   for (std::size_t s = 0; s < n_s; ++s) {
@@ -489,7 +494,8 @@ void Simulation::find_part_candidates() {
       }
       const std::size_t first_face = candidate_faces_.size();
       for (const std::uint32_t f : near) {
-        if (nearest(pc.faces[f], p).distance < reach) candidate_faces_.push_back(f);
+        const double d = nearest(pc.faces[f], p).distance;
+        if (d < reach) candidate_faces_.push_back(f), candidate_face_distance_.push_back(d);
       }
       if (candidate_faces_.size() == first_face) continue;
       candidate_face_start_.push_back(static_cast<std::uint32_t>(candidate_faces_.size()));
@@ -559,6 +565,8 @@ void Simulation::compute_forces(const Rolling&) {
                            wall_of_candidate_,
                            candidate_face_start_,
                            candidate_faces_,
+                           candidate_face_distance_,
+                           element_moved2_,
                            neighbors_.all_history().data(),
                            wall_history_.data(),
                            wall_touches_,
@@ -682,7 +690,12 @@ void Simulation::compute_forces() {
   // The last drift measured the elements' displacements; after changes from outside (-1)
   // every element is checked.
   const bool due = rebuild_due_ < 0 ? neighbors_.needs_rebuild(particles_.sphere_position) : rebuild_due_ > 0;
-  if (walls_changed_ || due) rebuild();
+  if (walls_changed_ || due) {
+    rebuild();
+  } else if (rebuild_due_ < 0) {  // moved from outside: measure every element
+    const auto& x = particles_.sphere_position;
+    for (std::size_t e = 0; e < x.size(); ++e) element_moved2_[e] = neighbors_.displacement2(e, x[e]);
+  }
   std::visit([this](const auto& model) { compute_forces(model); }, rolling_);
 }
 
@@ -741,7 +754,9 @@ void Simulation::drift(double dt) {
     // The elements are measured against the neighbour list's skin while at hand (declared in
     // the loop so that it updates this thread's copy of moved2).
     const auto measure = [&](std::uint32_t s, const Vec3& p) {
-      moved2 = std::max(moved2, neighbors_.displacement2(s, p));
+      const double d2 = neighbors_.displacement2(s, p);
+      element_moved2_[s] = d2;  // bounds the part-face distances (find_part_candidates)
+      moved2 = std::max(moved2, d2);
     };
     ps.position[b] += ps.velocity[b] * dt;
     // A lone sphere's orientation changes nothing, so it is not advanced (as LIGGGHTS's

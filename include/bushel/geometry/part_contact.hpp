@@ -31,8 +31,12 @@ struct PartTouch {
 };
 
 /// Contacts of the sphere (centre p in the part frame, radius r) with the faces listed in
-/// `candidates`; returns how many were written to `out`.
+/// `candidates`; returns how many were written to `out`. If `distances` is given (one per
+/// candidate: the centre's distance from the face when the list was made [m]) and the
+/// sphere and part have together moved at most `moved` [m] since, faces that cannot be
+/// within r are skipped without a nearest-point test.
 int part_touches(std::span<const Face> faces, std::span<const std::uint32_t> candidates, const Vec3& p, double r,
-                 std::array<PartTouch, max_part_touches>& out);
+                 std::array<PartTouch, max_part_touches>& out, std::span<const double> distances = {},
+                 double moved = 0.0);
 
 }  // namespace bushel

@@ -126,6 +126,8 @@ class Simulation {
   // of [normal (3), contact-law history] keyed by the contact's normal
   std::vector<std::uint32_t> wall_start_, wall_of_candidate_, sphere_of_candidate_, candidate_sphere_id_;
   std::vector<std::uint32_t> candidate_face_start_, candidate_faces_;
+  std::vector<double> candidate_face_distance_;  // centre to face at the build [m]
+  std::vector<double> element_moved2_;           // squared displacement of each element since the build [m2]
   std::vector<double> wall_history_;
   std::vector<Vec3> wall_reaction_;         // [2 c]: force on the part, its torque about the part origin
   std::vector<std::uint8_t> wall_touches_;  // [c]: contacts in the last step
