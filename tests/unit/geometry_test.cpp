@@ -104,6 +104,9 @@ TEST(Geometry, FaceGridFindsEveryNearbyFace) {
     const Vec3 a{c(rng), c(rng), c(rng)};
     faces.push_back(triangle_face(a, a + Vec3{s(rng), s(rng), s(rng)}, a + Vec3{s(rng), s(rng), s(rng)}));
   }
+  // Two large panels among the small triangles: they span far more cells than the rest.
+  faces.push_back(rectangle_face({0, 0, 0.01}, {0.05, 0, 0.02}, {0, 0.05, 0}));
+  faces.push_back(triangle_face({-0.05, -0.05, -0.05}, {0.05, 0.05, 0.05}, {0.05, -0.05, 0.0}));
   const FaceGrid grid(faces);
   EXPECT_GT(grid.cells(), 100u);
   std::vector<std::uint32_t> found;

@@ -15,7 +15,8 @@ class FaceGrid {
  public:
   FaceGrid() = default;
   /// Bins bounded faces (not a half-space). The cell size follows the faces' mean extent,
-  /// with about one face per cell, and the cell count is capped.
+  /// with about one face per cell, and the cell count is capped; a face that would span
+  /// more than 512 cells is kept in a short list that every query tests.
   explicit FaceGrid(std::span<const Face> faces);
 
   /// Appends the indices of faces whose bounding box comes within `reach` of p [m], each
@@ -29,6 +30,7 @@ class FaceGrid {
   int n_[3] = {0, 0, 0};
   std::vector<Vec3> face_lo_, face_hi_;
   std::vector<std::uint32_t> start_, items_;  // CSR: cell -> faces
+  std::vector<std::uint32_t> large_;          // faces spanning too many cells, tested by every query
 };
 
 }  // namespace bushel
