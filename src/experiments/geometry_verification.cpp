@@ -138,17 +138,20 @@ std::vector<CheckResult> servo_hold(const Options& o) {
   lid.motion.servo.gain = 0.02 / (0.1 * pressure * area);  // full speed at 10% off the target
   lid.motion.servo.start = sim.time();
   const std::size_t l = sim.add_part(std::move(lid));
-  const double held_by = sim.time() + 0.3;
-  while (!sim.part(l).servo.held && sim.time() < held_by) sim.step(100);
-  const bool reached = sim.part(l).servo.held;
-  sim.step(static_cast<std::uint64_t>(0.05 / dt));  // the approach's overshoot dies out
+  // Reached: within the tolerance without a break for 0.1 s (the bed under the lid settles
+  // into the new load first), at the latest 0.6 s after the lid starts.
+  const double limit = sim.time() + 0.6;
+  auto steady = [&] { return sim.part(l).servo.held && sim.time() - sim.part(l).servo.held_since >= 0.1; };
+  while (!steady() && sim.time() < limit) sim.step(100);
+  const bool reached = steady();
   double worst = 0.0;
   const auto n = static_cast<std::uint64_t>((o.quick ? 0.1 : 1.0) / dt);
   for (std::uint64_t k = 0; k < n; ++k) {
     sim.step();
     worst = std::max(worst, std::abs(sim.part(l).servo.measured_force / area - pressure) / pressure);
   }
-  return {result("servo lid reaches 10 kPa within 0.3 s", "reached [1 = yes]", 1.0, reached ? 1.0 : 0.0, 0.0),
+  return {result("servo lid reaches 10 kPa steadily (0.1 s) within 0.6 s", "reached [1 = yes]", 1.0,
+                 reached ? 1.0 : 0.0, 0.0),
           result(fmt::format("servo lid holds 10 kPa for {:g} s", o.quick ? 0.1 : 1.0), "|p - 10 kPa| / 10 kPa [-]",
                  0.0, worst, 0.01)};
 }
