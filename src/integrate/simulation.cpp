@@ -25,13 +25,13 @@ double min_moment(const Vec3& i) { return std::min({i.x, i.y, i.z}); }
 // Equal principal moments (a sphere): L = I omega in any frame, so rotation needs no quaternion work.
 bool is_isotropic(const Vec3& i) { return i.x == i.y && i.y == i.z; }
 
-// A batch of contacts (sphere-sphere or sphere-wall) on its way through the contact law:
+// A batch of contacts (sphere-sphere or sphere-part) on its way through the contact law:
 // the law's inputs in SoA form, and per contact what the rolling model, the torques and the
 // result slots need.
 struct LaneExtra {
   std::uint32_t element;  // the element on side i, whose own sums take the force
   std::uint32_t item;     // pair index, or part-candidate index
-  bool wall;              // a sphere-part contact (side j is the part)
+  bool part;              // a sphere-part contact (side j is the part)
   double* history;        // tangential displacement, then the rolling model's values
   Vec3 arm_i, arm_j;      // contact point minus each centre of mass (a part: its origin) [m]
   Vec3 omega_i, omega_j;  // [rad/s], set only for rolling models that use them
@@ -102,14 +102,14 @@ struct ContactViews {
   std::span<const Vec3> x_el, x_b, v_b, w_b, inertia;
   std::span<const double> radius, mass;
   std::span<const std::uint32_t> owner, sphere_count, species, first, second;
-  std::span<const std::uint32_t> wall_start, sphere_of_candidate, wall_of_candidate, candidate_face_start,
+  std::span<const std::uint32_t> part_start, sphere_of_candidate, part_of_candidate, candidate_face_start,
       candidate_faces;
   std::span<const double> candidate_face_distance, element_moved2;
   double* history;
-  double* wall_history;
-  std::span<std::uint8_t> wall_touches;
+  double* part_history;
+  std::span<std::uint8_t> candidate_touches;
   std::span<std::uint8_t> active;
-  std::span<Vec3> pair_force, pair_torque_j, element_force, element_torque, wall_reaction;
+  std::span<Vec3> pair_force, pair_torque_j, element_force, element_torque, part_reaction;
   std::span<double> pair_cdt_j, element_cdt;
   const PairCoefficients* coefficients;
   std::size_t n_species, n_types;
@@ -124,17 +124,17 @@ struct ChunkResult {
   std::size_t touching = 0;  // sphere-sphere contacts
 };
 
-// The contacts of elements [e0, e1): their pairs [p0, p1) as first element, then their wall
+// The contacts of elements [e0, e1): their pairs [p0, p1) as first element, then their part
 // candidates; each element's own sums are zeroed and rebuilt here.
 template <class Rolling>
 ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint32_t e1, std::size_t p0, std::size_t p1,
                           Lanes& lanes) {
   const ContactViews own = views;
-  const auto [x_el, x_b, v_b, w_b, inertia, radius, mass, owner, sphere_count, species, first, second, wall_start,
-              sphere_of_candidate, wall_of_candidate, candidate_face_start, candidate_faces, candidate_face_distance,
-              element_moved2, history, wall_history, wall_touches, active, pair_force, pair_torque_j, element_force,
-              element_torque, wall_reaction, pair_cdt_j, element_cdt, coefficient_data, n_species, n_types, parts,
-              part_cache, h, dt] = own;
+  const auto [x_el, x_b, v_b, w_b, inertia, radius, mass, owner, sphere_count, species, first, second, part_start,
+              sphere_of_candidate, part_of_candidate, candidate_face_start, candidate_faces, candidate_face_distance,
+              element_moved2, history, part_history, candidate_touches, active, pair_force, pair_torque_j,
+              element_force, element_torque, part_reaction, pair_cdt_j, element_cdt, coefficient_data, n_species,
+              n_types, parts, part_cache, h, dt] = own;
   auto coefficients = [&](std::size_t a, std::size_t b) -> const PairCoefficients& {
     return coefficient_data[a * n_species + b];
   };
@@ -172,7 +172,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     LaneExtra& e = lanes.next();
     e.element = i;
     e.item = static_cast<std::uint32_t>(p);
-    e.wall = false;
+    e.part = false;
     e.history = hist;
     e.arm_i = arm_i;
     e.arm_j = arm_j;
@@ -192,14 +192,13 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     lanes.push(n, overlap, v_rel, ri * rj / (ri + rj), mi * mj / (mi + mj), co);
     return overlap / std::min(ri, rj);
   };
-  // The same for a wall candidate, side i = the sphere.
   // A part candidate's contacts (up to max_part_touches) go into the batch with side i = the
   // sphere. Each takes the history slot whose stored normal is closest to its own, so that
   // a contact sliding across the triangles of one part keeps its history. Returns the
   // largest overlap ratio, or -1 if nothing touches.
   const std::size_t slot_size = 3 + static_cast<std::size_t>(h);
-  auto visit_wall = [&](std::size_t cw) -> double {
-    const std::uint32_t s = sphere_of_candidate[cw], w = wall_of_candidate[cw];
+  auto visit_part = [&](std::size_t cw) -> double {
+    const std::uint32_t s = sphere_of_candidate[cw], w = part_of_candidate[cw];
     const std::uint32_t b = owner[s];
     const PartCache& pc = part_cache[w];
     const Part& part = parts[w];
@@ -210,9 +209,9 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     const int n = part_touches(
         pc.faces, candidate_faces.subspan(f0, nf), transpose_times(pc.rotation, x_el[s] - origin), radius[s], touches,
         candidate_face_distance.subspan(f0, nf), nf > 1 ? std::sqrt(element_moved2[s]) + pc.moved : 0.0);
-    double* slots = wall_history + cw * max_part_touches * slot_size;
-    wall_reaction[2 * cw] = wall_reaction[2 * cw + 1] = Vec3{};
-    wall_touches[cw] = static_cast<std::uint8_t>(n);
+    double* slots = part_history + cw * max_part_touches * slot_size;
+    part_reaction[2 * cw] = part_reaction[2 * cw + 1] = Vec3{};
+    candidate_touches[cw] = static_cast<std::uint8_t>(n);
     std::array<bool, max_part_touches> used{};
     double max_ratio = -1.0;
     for (int k = 0; k < n; ++k) {
@@ -242,7 +241,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       LaneExtra& e = lanes.next();
       e.element = s;
       e.item = static_cast<std::uint32_t>(cw);
-      e.wall = true;
+      e.part = true;
       e.history = hist + 3;
       e.arm_i = arm;
       e.arm_j = point - origin;  // for the reaction's torque about the part origin
@@ -263,15 +262,15 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     }
     return max_ratio;
   };
-  // Side i adds to its element's own sums (in pair order, then walls); side j's share goes to
-  // the pair's slot, or to the wall's reaction.
+  // Side i adds to its element's own sums (in pair order, then parts); side j's share goes to
+  // the pair's slot, or to the part candidate's reaction.
   auto write = [&](const LaneExtra& e, const Vec3& f, const RollingOutput& roll) {
     element_force[e.element] += f;
     element_torque[e.element] += cross(e.arm_i, f) + roll.torque_i;
     element_cdt[e.element] += roll.cdt_i;
-    if (e.wall) {  // a candidate may have several contacts
-      wall_reaction[2 * std::size_t{e.item}] -= f;
-      wall_reaction[2 * std::size_t{e.item} + 1] += cross(e.arm_j, -f) - roll.torque_i;
+    if (e.part) {  // a candidate may have several contacts
+      part_reaction[2 * std::size_t{e.item}] -= f;
+      part_reaction[2 * std::size_t{e.item} + 1] += cross(e.arm_j, -f) - roll.torque_i;
     } else {
       pair_force[e.item] = f;
       pair_torque_j[e.item] = cross(e.arm_j, -f) + roll.torque_j;
@@ -290,9 +289,9 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     ++r.touching;
     if (lanes.full()) lanes.finish<Rolling>(dt, write);
   }
-  for (std::size_t cw = wall_start[e0]; cw < wall_start[e1]; ++cw) {
+  for (std::size_t cw = part_start[e0]; cw < part_start[e1]; ++cw) {
     if (lanes.batch.size + max_part_touches > ContactBatch::capacity) lanes.finish<Rolling>(dt, write);
-    r.max_ratio = std::max(r.max_ratio, visit_wall(cw));
+    r.max_ratio = std::max(r.max_ratio, visit_part(cw));
   }
   lanes.finish<Rolling>(dt, write);
   return r;
@@ -343,7 +342,7 @@ std::size_t Simulation::add_part(Part part) {
     throw e.with_key(key);
   }
   parts_.push_back(std::move(part));
-  walls_changed_ = true;
+  parts_changed_ = true;
   return parts_.size() - 1;
 }
 
@@ -465,17 +464,17 @@ void Simulation::find_part_candidates() {
   for (std::size_t c = candidate_sphere_id_.size(); c-- > 0;) {
     if (candidate_sphere_id_[c] < old_first.size()) old_first[candidate_sphere_id_[c]] = static_cast<std::uint32_t>(c);
   }
-  const std::vector<std::uint32_t> old_part = std::move(wall_of_candidate_), old_id = std::move(candidate_sphere_id_);
-  const std::vector<double> old_history = std::move(wall_history_);
-  wall_start_.assign(n_s + 1, 0);
-  wall_of_candidate_.clear();
+  const std::vector<std::uint32_t> old_part = std::move(part_of_candidate_), old_id = std::move(candidate_sphere_id_);
+  const std::vector<double> old_history = std::move(part_history_);
+  part_start_.assign(n_s + 1, 0);
+  part_of_candidate_.clear();
   sphere_of_candidate_.clear();
   candidate_sphere_id_.clear();
   candidate_face_start_.assign(1, 0);
   candidate_faces_.clear();
   candidate_face_distance_.clear();
   element_moved2_.assign(n_s, 0.0);
-  wall_history_.clear();
+  part_history_.clear();
   std::vector<std::uint32_t> near;
   for (std::size_t s = 0; s < n_s; ++s) {
     const double reach = ps.radius[s] + skin;
@@ -499,33 +498,33 @@ void Simulation::find_part_candidates() {
       }
       if (candidate_faces_.size() == first_face) continue;
       candidate_face_start_.push_back(static_cast<std::uint32_t>(candidate_faces_.size()));
-      wall_of_candidate_.push_back(static_cast<std::uint32_t>(w));
+      part_of_candidate_.push_back(static_cast<std::uint32_t>(w));
       sphere_of_candidate_.push_back(static_cast<std::uint32_t>(s));
       candidate_sphere_id_.push_back(ps.sphere_id[s]);
-      const std::size_t at = wall_history_.size();
-      wall_history_.resize(at + slots, 0.0);
+      const std::size_t at = part_history_.size();
+      part_history_.resize(at + slots, 0.0);
       const std::uint32_t id = ps.sphere_id[s];
       for (std::size_t c = id < old_first.size() ? old_first[id] : UINT32_MAX; c < old_id.size() && old_id[c] == id;
            ++c) {
-        if (old_part[c] == w) std::copy_n(old_history.data() + c * slots, slots, wall_history_.data() + at);
+        if (old_part[c] == w) std::copy_n(old_history.data() + c * slots, slots, part_history_.data() + at);
       }
     }
-    wall_start_[s + 1] = static_cast<std::uint32_t>(wall_of_candidate_.size());
+    part_start_[s + 1] = static_cast<std::uint32_t>(part_of_candidate_.size());
   }
-  wall_reaction_.assign(2 * wall_of_candidate_.size(), Vec3{});
-  wall_touches_.assign(wall_of_candidate_.size(), 0);
+  part_reaction_.assign(2 * part_of_candidate_.size(), Vec3{});
+  candidate_touches_.assign(part_of_candidate_.size(), 0);
   for (PartCache& pc : part_cache_) pc.moved = 0.0;
-  walls_changed_ = false;
+  parts_changed_ = false;
 }
 
 void Simulation::split_into_chunks() {
-  // Runs of whole elements with about one batch of pairs and wall candidates each: a fixed
+  // Runs of whole elements with about one batch of pairs and part candidates each: a fixed
   // split (the thread count plays no part), and each element's own sums stay in one chunk.
   const std::size_t n_s = particles_.spheres();
   chunk_start_.assign(1, 0);
   std::size_t load = 0;
   for (std::size_t s = 0; s < n_s; ++s) {
-    load += neighbors_.begin_of(s + 1) - neighbors_.begin_of(s) + wall_start_[s + 1] - wall_start_[s];
+    load += neighbors_.begin_of(s + 1) - neighbors_.begin_of(s) + part_start_[s + 1] - part_start_[s];
     if (load >= ContactBatch::capacity || s + 1 == n_s) {
       chunk_start_.push_back(static_cast<std::uint32_t>(s + 1));
       load = 0;
@@ -560,22 +559,22 @@ void Simulation::compute_forces(const Rolling&) {
                            ps.species,
                            neighbors_.firsts(),
                            neighbors_.seconds(),
-                           wall_start_,
+                           part_start_,
                            sphere_of_candidate_,
-                           wall_of_candidate_,
+                           part_of_candidate_,
                            candidate_face_start_,
                            candidate_faces_,
                            candidate_face_distance_,
                            element_moved2_,
                            neighbors_.all_history().data(),
-                           wall_history_.data(),
-                           wall_touches_,
+                           part_history_.data(),
+                           candidate_touches_,
                            pair_active_,
                            pair_force_,
                            pair_torque_j_,
                            element_force_,
                            element_torque_,
-                           wall_reaction_,
+                           part_reaction_,
                            pair_cdt_j_,
                            element_cdt_,
                            coefficients_.size() > 0 ? &coefficients_(0, 0) : nullptr,
@@ -586,7 +585,7 @@ void Simulation::compute_forces(const Rolling&) {
                            neighbors_.history_size(),
                            dt};
 
-  // --- contacts, per chunk of elements: their pairs (as first element), then their walls ---
+  // --- contacts, per chunk of elements: their pairs (as first element), then their parts ---
   double max_ratio = 0.0;
   std::size_t touching = 0;
   const auto n_chunks = static_cast<std::ptrdiff_t>(chunk_start_.size()) - 1;
@@ -636,30 +635,30 @@ void Simulation::compute_forces(const Rolling&) {
 void Simulation::sum_part_reactions() {
   // Fixed chunks of candidates, summed in order: the same sums for any thread count, without
   // a serial pass over every candidate.
-  const std::size_t n_w = parts_.size(), n_c = wall_of_candidate_.size();
+  const std::size_t n_w = parts_.size(), n_c = part_of_candidate_.size();
   if (n_w == 0) return;
   constexpr std::size_t chunks = 64;
   const std::size_t per_chunk = (n_c + chunks - 1) / chunks;
-  wall_partial_.assign(3 * chunks * n_w, Vec3{});  // force, torque, (touches, 0, 0)
+  part_partial_.assign(3 * chunks * n_w, Vec3{});  // force, torque, (touches, 0, 0)
   const auto nc = static_cast<std::ptrdiff_t>(chunks);
 #pragma omp parallel for schedule(static) if (static_cast <std::ptrdiff_t>(n_c) > parallel_threshold)
   for (std::ptrdiff_t sc = 0; sc < nc; ++sc) {
     const auto k = static_cast<std::size_t>(sc);
-    Vec3* out = wall_partial_.data() + 3 * k * n_w;
+    Vec3* out = part_partial_.data() + 3 * k * n_w;
     for (std::size_t c = k * per_chunk; c < std::min(n_c, (k + 1) * per_chunk); ++c) {
-      const std::uint32_t w = wall_of_candidate_[c];
-      out[3 * w] += wall_reaction_[2 * c];
-      out[3 * w + 1] += wall_reaction_[2 * c + 1];
-      out[3 * w + 2].x += wall_touches_[c];
+      const std::uint32_t w = part_of_candidate_[c];
+      out[3 * w] += part_reaction_[2 * c];
+      out[3 * w + 1] += part_reaction_[2 * c + 1];
+      out[3 * w + 2].x += candidate_touches_[c];
     }
   }
   for (std::size_t w = 0; w < n_w; ++w) {
     Vec3 f, t;
     double touches = 0.0;
     for (std::size_t k = 0; k < chunks; ++k) {
-      f += wall_partial_[3 * (k * n_w + w)];
-      t += wall_partial_[3 * (k * n_w + w) + 1];
-      touches += wall_partial_[3 * (k * n_w + w) + 2].x;
+      f += part_partial_[3 * (k * n_w + w)];
+      t += part_partial_[3 * (k * n_w + w) + 1];
+      touches += part_partial_[3 * (k * n_w + w) + 2].x;
     }
     parts_[w].force = f;
     parts_[w].torque = t;
@@ -676,7 +675,7 @@ void Simulation::move_parts(double t, double dt) {
     pc.rotation = to_matrix(part.pose.orientation);
     part.twist = twist_at(part.motion, part.servo.speed, part.pose, t + dt);
     // A face may now be up to `moved` closer to a sphere than at the last build.
-    if (pc.moved > 0.5 * neighbors_.skin()) walls_changed_ = true;
+    if (pc.moved > 0.5 * neighbors_.skin()) parts_changed_ = true;
   }
 }
 
@@ -690,7 +689,7 @@ void Simulation::compute_forces() {
   // The last drift measured the elements' displacements; after changes from outside (-1)
   // every element is checked.
   const bool due = rebuild_due_ < 0 ? neighbors_.needs_rebuild(particles_.sphere_position) : rebuild_due_ > 0;
-  if (walls_changed_ || due) {
+  if (parts_changed_ || due) {
     rebuild();
   } else if (rebuild_due_ < 0) {  // moved from outside: measure every element
     const auto& x = particles_.sphere_position;

@@ -1,5 +1,5 @@
 #pragma once
-// The time stepper: particles, walls, contact laws and the neighbour list brought together
+// The time stepper: particles, geometry parts, contact laws and the neighbour list brought together
 // (ARCHITECTURE.md, "Time step"). One step:
 //   1. rebuild the neighbour list if needed (spatially sorting the particles every few builds)
 //   2. contacts, in parallel over fixed runs of elements (each about one batch of 128
@@ -117,22 +117,22 @@ class Simulation {
   std::vector<double> pair_cdt_j_;         // CDT magnitude on the second element's body [N m]
   std::vector<std::uint8_t> pair_active_;  // 1 while the pair touches (or may: fresh list)
   std::size_t active_build_ = 0;           // neighbour-list build the flags belong to
-  // per element: its own sums over its pairs (as first element) and its walls
+  // per element: its own sums over its pairs (as first element) and its parts
   std::vector<Vec3> element_force_, element_torque_;
   std::vector<double> element_cdt_;
   std::vector<std::uint32_t> chunk_start_;  // elements split into runs of about one batch of contacts
   // sphere-part candidates (spheres within the skin of a part's faces at the last build),
   // grouped by sphere (CSR), each with its nearby faces and max_part_touches history slots
   // of [normal (3), contact-law history] keyed by the contact's normal
-  std::vector<std::uint32_t> wall_start_, wall_of_candidate_, sphere_of_candidate_, candidate_sphere_id_;
+  std::vector<std::uint32_t> part_start_, part_of_candidate_, sphere_of_candidate_, candidate_sphere_id_;
   std::vector<std::uint32_t> candidate_face_start_, candidate_faces_;
   std::vector<double> candidate_face_distance_;  // centre to face at the build [m]
   std::vector<double> element_moved2_;           // squared displacement of each element since the build [m2]
-  std::vector<double> wall_history_;
-  std::vector<Vec3> wall_reaction_;         // [2 c]: force on the part, its torque about the part origin
-  std::vector<std::uint8_t> wall_touches_;  // [c]: contacts in the last step
-  std::vector<Vec3> wall_partial_;          // per-chunk sums of wall_reaction_
-  bool walls_changed_ = true;               // the candidates must be found again
+  std::vector<double> part_history_;
+  std::vector<Vec3> part_reaction_;              // [2 c]: force on the part, its torque about the part origin
+  std::vector<std::uint8_t> candidate_touches_;  // [c]: contacts in the last step
+  std::vector<Vec3> part_partial_;               // per-chunk sums of part_reaction_
+  bool parts_changed_ = true;                    // the candidates must be found again
 
   double time_ = 0.0;
   std::uint64_t steps_ = 0;
