@@ -46,6 +46,8 @@ void run_funnel(const FunnelOptions& o) {
   spec.gate_speed = option_quantity("--gate-speed", o.gate_speed, units::dim::angular_velocity);
   const double end_time = option_quantity("--time", o.time, units::dim::time);
   const double frame_every = option_quantity("--frame", o.frame, units::dim::time);
+  if (!(end_time > 0.0)) throw InputError("expected a positive time, e.g. 2s").with_key("--time");
+  if (!(frame_every > 0.0)) throw InputError("expected a positive interval, e.g. 0.05s").with_key("--frame");
   if (!o.write_stl.empty()) {
     const TriangleMesh m = funnel_mesh(spec);
     io::write_stl(o.write_stl, m);

@@ -76,6 +76,7 @@ void Motion::validate() const {
       case MotionSegment::Kind::rotate:
         require_unit(s.axis, key + ".axis");
         if (!std::isfinite(s.angular_speed)) throw InputError("expected a finite angular speed in rad/s").with_key(key);
+        if (!std::isfinite(norm(s.point))) throw InputError("expected a finite point in m").with_key(key + ".point");
         break;
       case MotionSegment::Kind::tap:
         require_positive(s.gravity, key + ".gravity", "m/s2");
@@ -99,7 +100,9 @@ void Motion::validate() const {
     if (!(servo.tolerance > 0.0 && servo.tolerance < 1.0)) {
       throw InputError("expected a relative tolerance between 0 and 1").with_key("servo.tolerance");
     }
-    if (!(servo.area >= 0.0)) throw InputError("expected a non-negative area in m2").with_key("servo.area");
+    if (!(servo.area >= 0.0 && std::isfinite(servo.area))) {
+      throw InputError("expected a non-negative finite area in m2").with_key("servo.area");
+    }
     if (!(servo.start >= 0.0) || !(servo.end > servo.start)) {
       throw InputError("expected 0 <= start < end in seconds").with_key("servo.start");
     }
@@ -127,6 +130,7 @@ double advance(const Motion& motion, double servo_speed, Pose& pose, double t, d
       case MotionSegment::Kind::rotate: {
         // A point y of the part moves by at most |angle| |y - point|.
         const double angle = s.angular_speed * (hi - lo);
+        if (angle == 0.0) break;  // (and no 0 x inf for an unbounded part)
         const Quat turn = Quat::from_axis_angle(s.axis, angle);
         moved += std::abs(angle) * (reach + norm(pose.position - s.point));
         pose.position = s.point + rotate(turn, pose.position - s.point);

@@ -1,5 +1,7 @@
 #include "bushel/geometry/part.hpp"
 
+#include "bushel/core/input_error.hpp"
+
 #include <cmath>
 #include <numbers>
 #include <utility>
@@ -20,6 +22,9 @@ Part plane_part(std::string name, Material material, const Vec3& point, const Ve
 }
 
 Quat orientation_towards(const Vec3& direction) {
+  if (!(norm(direction) > 0.0) || !std::isfinite(norm(direction))) {
+    throw InputError("expected a non-zero finite direction").with_key("normal");
+  }
   const Vec3 z{0, 0, 1}, d = normalized(direction);
   const Vec3 axis = cross(z, d);
   const double s = norm(axis), c = dot(z, d);

@@ -91,6 +91,18 @@ std::vector<Face> faces_of(const ShapeSpec& shape) {
     }
     void operator()(const MeshSpec& m) const {
       if (m.mesh.size() == 0) throw InputError("expected a mesh with at least one triangle").at(m.source);
+      for (const Vec3& v : m.mesh.vertices) {
+        if (!std::isfinite(norm(v))) throw InputError("expected finite vertex coordinates in m").at(m.source);
+      }
+      for (const auto& t : m.mesh.triangles) {
+        for (const std::uint32_t i : t) {
+          if (i >= m.mesh.vertices.size()) {
+            throw InputError("a triangle refers to vertex " + std::to_string(i) + " of " +
+                             std::to_string(m.mesh.vertices.size()))
+                .at(m.source);
+          }
+        }
+      }
       for (std::size_t t = 0; t < m.mesh.size(); ++t) {
         f.push_back(triangle_face(m.mesh.corner(t, 0), m.mesh.corner(t, 1), m.mesh.corner(t, 2)));
       }

@@ -299,6 +299,21 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
 
 }  // namespace
 
+namespace {
+
+// A motion's own checks, plus what the shape allows: an infinite plane may translate but
+// not rotate (every point of it would move without bound).
+void validate_motion(const ShapeSpec& shape, const Motion& motion) {
+  motion.validate();
+  if (std::holds_alternative<PlaneSpec>(shape) &&
+      std::any_of(motion.segments.begin(), motion.segments.end(),
+                  [](const MotionSegment& m) { return m.kind == MotionSegment::Kind::rotate; })) {
+    throw InputError("an infinite plane cannot rotate; use a plate or a disc").with_key("motion");
+  }
+}
+
+}  // namespace
+
 Simulation::Simulation(SimulationSettings settings)
     : settings_(std::move(settings)), rolling_(rolling_model(settings_.rolling)), neighbors_(1.0, 3) {
   if (!(settings_.dt > 0.0)) throw InputError("expected a positive time step").with_key("dt");
@@ -313,14 +328,14 @@ std::size_t Simulation::add_part(Part part) {
   }
   try {
     validate(part.material);
-    part.motion.validate();
+    validate_motion(part.shape, part.motion);
+    const Quat& q = part.pose.orientation;
+    if (!std::isfinite(norm(part.pose.position)) || !std::isfinite(norm2(q)) || norm2(q) < 1e-12) {
+      throw InputError("expected a finite position in m and a non-zero finite orientation quaternion").with_key("pose");
+    }
     PartCache cache;
     cache.faces = faces_of(part.shape);
     const bool plane = std::holds_alternative<PlaneSpec>(part.shape);
-    if (plane && std::any_of(part.motion.segments.begin(), part.motion.segments.end(),
-                             [](const MotionSegment& m) { return m.kind == MotionSegment::Kind::rotate; })) {
-      throw InputError("an infinite plane cannot rotate; use a plate or a disc").with_key("motion");
-    }
     cache.lo = Vec3{INFINITY, INFINITY, INFINITY};
     cache.hi = -1.0 * cache.lo;
     for (const Face& f : cache.faces) {
@@ -357,7 +372,7 @@ std::size_t Simulation::part_index(const std::string& name) const {
 
 void Simulation::set_motion(std::size_t i, Motion motion) {
   try {
-    motion.validate();
+    validate_motion(parts_.at(i).shape, motion);
   } catch (const InputError& e) {
     throw e.with_key("parts." + parts_.at(i).name);
   }
@@ -411,9 +426,13 @@ void Simulation::prepare() {
     prepared_parts_ = parts_.size();
   }
   const std::size_t n_s = particles_.spheres();
+  // New particles or parts: the last forces (velocity Verlet's first half kick) are stale.
+  if (element_force_.size() != n_s || parts_.size() != forces_parts_) forces_valid_ = false;
+  forces_parts_ = parts_.size();
   element_force_.resize(n_s);
   element_torque_.resize(n_s);
   element_cdt_.resize(n_s);
+  element_moved2_.resize(n_s, 0.0);  // a build is due for new elements anyway (size change)
   particles_.update_sphere_positions();
 }
 

@@ -14,6 +14,7 @@
 #include "bushel/geometry/motion.hpp"
 #include "bushel/geometry/part_contact.hpp"
 #include "bushel/geometry/shapes.hpp"
+#include "bushel/integrate/simulation.hpp"
 
 using namespace bushel;
 
@@ -265,4 +266,48 @@ TEST(Motion, ServoMovesTowardsItsTarget) {
   st = update_servo(s, st, {0, 0, 9.95}, 0.2);
   EXPECT_TRUE(st.held);
   EXPECT_EQ(st.held_since, 0.1);
+}
+
+TEST(Parts, BadPartsAreInputErrors) {
+  SimulationSettings s;
+  s.dt = 1e-5;
+  Simulation sim(s);
+  const Material steel = materials::steel();
+  EXPECT_THROW(plane_part("floor", steel, {0, 0, 0}, {0, 0, 0}), InputError);  // no normal
+  EXPECT_THROW(sim.add_part(make_part("lid", DiscSpec{0.02}, steel, {{0, 0, NAN}, {}})), InputError);
+  EXPECT_THROW(sim.add_part(make_part("lid", DiscSpec{0.02}, steel, {{}, {0, 0, 0, 0}})), InputError);
+  MeshSpec broken{square_mesh(0.01, 1), "in code"};
+  broken.mesh.triangles[1][2] = 9;
+  EXPECT_THROW(sim.add_part(make_part("mesh", broken, steel)), InputError);
+  try {
+    sim.add_part(make_part("cup", CylinderSpec{0.03, -0.1}, steel));
+    FAIL() << "a negative height was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "parts.cup.height");
+  }
+  const std::size_t floor = sim.add_part(plane_part("floor", steel, {0, 0, 0}, {0, 0, 1}));
+  Motion spin;
+  spin.segments.push_back(MotionSegment::turn({1, 0, 0}, {}, 1.0, 1.0, 0.0));
+  EXPECT_THROW(sim.set_motion(floor, spin), InputError);                                     // a plane cannot rotate
+  EXPECT_THROW(sim.add_part(plane_part("floor", steel, {0, 0, 1}, {0, 0, 1})), InputError);  // name taken
+  EXPECT_EQ(sim.part_index("floor"), floor);
+  EXPECT_THROW(sim.part_index("flor"), InputError);
+}
+
+TEST(Parts, VelocityVerletTakesParticlesAddedBetweenSteps) {
+  // New particles after forces were computed: the arrays grow and the forces are recomputed
+  // before the first half kick (under ASan this would catch a write past an array's end).
+  SimulationSettings s;
+  s.dt = 2e-6;
+  s.integrator = Integrator::velocity_verlet;
+  s.contacts = ContactTable({0.5, 0.3, 0.0});
+  Simulation sim(s);
+  sim.add_part(plane_part("floor", materials::steel(), {0, 0, 0}, {0, 0, 1}));
+  const auto t = sim.particles().add_type({"grain", make_template("sphere", {{{0, 0, 0}, 1e-3}}), materials::wheat()});
+  sim.particles().add(t, {{0, 0, 0.9999e-3}, {}, {}, {}});
+  sim.step(10);
+  for (int k = 1; k <= 20; ++k) sim.particles().add(t, {{0.003 * k, 0, 0.9999e-3}, {}, {}, {}});
+  sim.step(10);
+  EXPECT_EQ(sim.part(0).touches, 21u);
+  EXPECT_GT(-sim.part(0).force.z, 0.0);
 }

@@ -54,7 +54,7 @@ inline bool side_allows(const Face& face, bool front_side) {
 void bounds(const Face& face, Vec3& lo, Vec3& hi);
 
 Face triangle_face(const Vec3& a, const Vec3& b, const Vec3& c, Side side = Side::both);
-/// Rectangle with centre `centre` and half-edge vectors u and v (front = u x v).
+/// Rectangle with centre `centre` and orthogonal half-edge vectors u and v (front = u x v).
 Face rectangle_face(const Vec3& centre, const Vec3& u, const Vec3& v, Side side = Side::both);
 /// Surface of revolution of the meridian segment (rho0, z0) -> (rho1, z1) about the z axis.
 Face revolved_face(double rho0, double z0, double rho1, double z1, Side side = Side::both);

@@ -108,6 +108,7 @@ class Simulation {
   PairCoefficientTable coefficients_;
   std::size_t prepared_types_ = 0, prepared_parts_ = 0;
   bool forces_valid_ = false;
+  std::size_t forces_parts_ = 0;  // part count the last forces were computed with
   int rebuild_due_ = -1;  // from the last drift: 1 yes, 0 no, -1 unknown (check every element)
   bool neighbors_configured_ = false;
 
