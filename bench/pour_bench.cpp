@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -63,6 +64,12 @@ int main(int argc, char** argv) {
   bool loaded = false;
   if (state) {
     if (std::fstream in(state, std::ios::in | std::ios::binary); in) {
+      // 16 doubles per body: a bed of another size or particle is refused.
+      const auto expected = static_cast<std::uintmax_t>(ps.bodies() * 16 * sizeof(double));
+      if (std::filesystem::file_size(state) != expected) {
+        fmt::print(stderr, "bench_pour: {} does not hold {} bodies of this scene\n", state, ps.bodies());
+        return 2;
+      }
       transfer(in, false);
       loaded = true;
       // One untimed step for the set-up (pair coefficients, first neighbour list), which
