@@ -705,15 +705,23 @@ void Simulation::update_servos() {
 }
 
 void Simulation::compute_forces() {
-  // The last drift measured the elements' displacements; after changes from outside (-1)
-  // every element is checked.
-  const bool due = rebuild_due_ < 0 ? neighbors_.needs_rebuild(particles_.sphere_position) : rebuild_due_ > 0;
-  if (parts_changed_ || due) {
-    rebuild();
-  } else if (rebuild_due_ < 0) {  // moved from outside: measure every element
+  // The last drift measured each element's displacement since the build (for the rebuild
+  // test and the part-face bound); after changes from outside (-1) this pass measures them.
+  // An element added since the build has an infinite displacement, so it forces a build.
+  bool due = rebuild_due_ > 0;
+  if (rebuild_due_ < 0) {
     const auto& x = particles_.sphere_position;
-    for (std::size_t e = 0; e < x.size(); ++e) element_moved2_[e] = neighbors_.displacement2(e, x[e]);
+    const auto n = static_cast<std::ptrdiff_t>(x.size());
+    double worst = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : worst) if (n > parallel_threshold)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const auto e = static_cast<std::size_t>(i);
+      element_moved2_[e] = neighbors_.displacement2(e, x[e]);
+      worst = std::max(worst, element_moved2_[e]);
+    }
+    due = neighbors_.builds() == 0 || worst > 0.25 * neighbors_.skin() * neighbors_.skin();
   }
+  if (parts_changed_ || due) rebuild();
   std::visit([this](const auto& model) { compute_forces(model); }, rolling_);
 }
 
