@@ -21,19 +21,6 @@ NeighborList::NeighborList(double skin, int history_size) : skin_(skin), history
   if (history_size < 0) throw std::invalid_argument("NeighborList: negative history size");
 }
 
-bool NeighborList::needs_rebuild(std::span<const Vec3> position) const {
-  if (builds_ == 0 || position.size() != reference_.size()) return true;
-  const double limit2 = 0.25 * skin_ * skin_;
-  const auto n = static_cast<std::ptrdiff_t>(position.size());
-  int moved = 0;
-#pragma omp parallel for schedule(static) reduction(| : moved) if (n > parallel_threshold)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (norm2(position[k] - reference_[k]) > limit2) moved = 1;
-  }
-  return moved != 0;
-}
-
 void NeighborList::build(std::span<const Vec3> position, std::span<const double> radius,
                          std::span<const std::uint32_t> owner, std::span<const std::uint32_t> stable_id) {
   const std::size_t n = position.size();

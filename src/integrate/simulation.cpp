@@ -719,7 +719,7 @@ void Simulation::compute_forces() {
       element_moved2_[e] = neighbors_.displacement2(e, x[e]);
       worst = std::max(worst, element_moved2_[e]);
     }
-    due = neighbors_.builds() == 0 || worst > 0.25 * neighbors_.skin() * neighbors_.skin();
+    due = neighbors_.needs_rebuild(worst);
   }
   if (parts_changed_ || due) rebuild();
   std::visit([this](const auto& model) { compute_forces(model); }, rolling_);
@@ -802,7 +802,7 @@ void Simulation::drift(double dt) {
     ps.angular_velocity[b] = angular_velocity_from_momentum(r, ps.inverse_inertia[b], ps.angular_momentum[b]);
     ps.place_elements(b, r, measure);
   }
-  rebuild_due_ = moved2 > 0.25 * neighbors_.skin() * neighbors_.skin() ? 1 : 0;
+  rebuild_due_ = neighbors_.needs_rebuild(moved2) ? 1 : 0;
 }
 
 void Simulation::step(std::uint64_t n) {

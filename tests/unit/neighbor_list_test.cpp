@@ -1,6 +1,8 @@
 // The Verlet list against brute force, and contact history across rebuilds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <map>
 #include <random>
 #include <set>
@@ -118,13 +120,21 @@ TEST(NeighborList, HistorySurvivesRebuildAndRenumbering) {
 TEST(NeighborList, RebuildOnlyAfterHalfTheSkin) {
   Cloud c = random_cloud(50, 5);
   NeighborList list(1e-3, 0);
-  EXPECT_TRUE(list.needs_rebuild(c.position));
+  auto due = [&] {  // as the simulation asks: from the largest displacement since the build
+    double worst = 0.0;
+    for (std::size_t k = 0; k < c.position.size(); ++k) worst = std::max(worst, list.displacement2(k, c.position[k]));
+    return list.needs_rebuild(worst);
+  };
+  EXPECT_TRUE(due());
   list.build(c.position, c.radius, c.owner, c.id);
-  EXPECT_FALSE(list.needs_rebuild(c.position));
+  EXPECT_FALSE(due());
   c.position[17].x += 0.49e-3;
-  EXPECT_FALSE(list.needs_rebuild(c.position));
+  EXPECT_FALSE(due());
   c.position[17].x += 0.02e-3;
-  EXPECT_TRUE(list.needs_rebuild(c.position));
+  EXPECT_TRUE(due());
+  c.position[17].x -= 0.02e-3;
+  c.position.push_back(c.position[3]);  // an element added since the build
+  EXPECT_TRUE(due());
 }
 
 }  // namespace

@@ -26,9 +26,11 @@ class NeighborList {
   void build(std::span<const Vec3> position, std::span<const double> radius, std::span<const std::uint32_t> owner,
              std::span<const std::uint32_t> stable_id);
 
-  /// True when some element moved more than skin/2 since the last build (or never built,
-  /// or the element count changed).
-  bool needs_rebuild(std::span<const Vec3> position) const;
+  /// True when the list was never built, or the largest squared displacement of an element
+  /// since the build (displacement2; infinite for an element added since) exceeds (skin/2)^2.
+  bool needs_rebuild(double max_displacement2) const {
+    return builds_ == 0 || max_displacement2 > 0.25 * skin_ * skin_;
+  }
   /// Squared distance of an element from where it was at the last build [m2]; infinite for an
   /// element that was not in it.
   double displacement2(std::size_t element, const Vec3& position) const {
