@@ -5,20 +5,31 @@
 namespace bushel {
 namespace {
 
-// One contact (see the header for the equations). Branch-free: both sides of each choice are
-// computed and one is selected, which is safe because this file is built without math errno
-// and FP trapping (src/CMakeLists.txt); selected values are the same as with branches.
-inline void solve_one(ContactBatch& b, int i, double dt) {
-  const double nx = b.nx[i], ny = b.ny[i], nz = b.nz[i];
-  const double v_n = b.vx[i] * nx + b.vy[i] * ny + b.vz[i] * nz;
-  const double tx = b.vx[i] - v_n * nx, ty = b.vy[i] - v_n * ny, tz = b.vz[i] - v_n * nz;
-  const double s_n = 2.0 * b.youngs_modulus[i] * std::sqrt(b.r_star[i] * b.overlap[i]);
-  const double root_s_n_m = std::sqrt(s_n * b.m_star[i]);
-  const double elastic_damped = 2.0 / 3.0 * s_n * b.overlap[i] + b.damping[i] * root_s_n_m * v_n;
+// What the law needs of one contact besides the tangential displacement.
+struct LawInput {
+  double nx, ny, nz, overlap, vx, vy, vz, r_star, m_star;
+  double youngs_modulus, stiffness_ratio, root_stiffness_ratio, damping, static_friction;
+};
+struct LawOutput {
+  double fx, fy, fz, normal_force, normal_stiffness;
+};
+
+// One contact (see the header for the equations); updates xi. Branch-free: both sides of each
+// choice are computed and one is selected, which is safe because this file is built without
+// math errno and FP trapping (src/CMakeLists.txt); selected values are the same as with
+// branches.
+[[gnu::always_inline]] inline LawOutput hertz_mindlin(const LawInput& in, double& xi_x, double& xi_y, double& xi_z,
+                                                      double dt) {
+  const double nx = in.nx, ny = in.ny, nz = in.nz;
+  const double v_n = in.vx * nx + in.vy * ny + in.vz * nz;
+  const double tx = in.vx - v_n * nx, ty = in.vy - v_n * ny, tz = in.vz - v_n * nz;
+  const double s_n = 2.0 * in.youngs_modulus * std::sqrt(in.r_star * in.overlap);
+  const double root_s_n_m = std::sqrt(s_n * in.m_star);
+  const double elastic_damped = 2.0 / 3.0 * s_n * in.overlap + in.damping * root_s_n_m * v_n;
   const double f_n = elastic_damped > 0.0 ? elastic_damped : 0.0;
 
   // Rotate xi into the tangent plane, keeping its length (unchanged if already in it).
-  double x = b.xi_x[i], y = b.xi_y[i], z = b.xi_z[i];
+  double x = xi_x, y = xi_y, z = xi_z;
   const double len2 = x * x + y * y + z * z;
   const double along = x * nx + y * ny + z * nz;
   const double projected2 = len2 - along * along;
@@ -27,10 +38,10 @@ inline void solve_one(ContactBatch& b, int i, double dt) {
   y = (y - along * ny) * keep + ty * dt;
   z = (z - along * nz) * keep + tz * dt;
 
-  const double s_t = b.stiffness_ratio[i] * s_n;
-  const double gamma_t = b.damping[i] * b.root_stiffness_ratio[i] * root_s_n_m;
+  const double s_t = in.stiffness_ratio * s_n;
+  const double gamma_t = in.damping * in.root_stiffness_ratio * root_s_n_m;
   double fx = -s_t * x - gamma_t * tx, fy = -s_t * y - gamma_t * ty, fz = -s_t * z - gamma_t * tz;
-  const double limit = b.static_friction[i] * f_n;
+  const double limit = in.static_friction * f_n;
   const double f_len2 = fx * fx + fy * fy + fz * fz;
   const bool sliding = f_len2 > limit * limit;
   const double cut = sliding ? limit / std::sqrt(f_len2) : 1.0;
@@ -38,15 +49,61 @@ inline void solve_one(ContactBatch& b, int i, double dt) {
   // Sliding: the spring holds the Coulomb force.
   const bool spring = sliding && s_t > 0.0;
   const double s_t_safe = s_t > 0.0 ? s_t : 1.0;
-  b.xi_x[i] = spring ? -(fx + gamma_t * tx) / s_t_safe : (sliding ? 0.0 : x);
-  b.xi_y[i] = spring ? -(fy + gamma_t * ty) / s_t_safe : (sliding ? 0.0 : y);
-  b.xi_z[i] = spring ? -(fz + gamma_t * tz) / s_t_safe : (sliding ? 0.0 : z);
+  xi_x = spring ? -(fx + gamma_t * tx) / s_t_safe : (sliding ? 0.0 : x);
+  xi_y = spring ? -(fy + gamma_t * ty) / s_t_safe : (sliding ? 0.0 : y);
+  xi_z = spring ? -(fz + gamma_t * tz) / s_t_safe : (sliding ? 0.0 : z);
+  return {-f_n * nx + fx, -f_n * ny + fy, -f_n * nz + fz, f_n, s_n};
+}
 
-  b.fx[i] = -f_n * nx + fx;
-  b.fy[i] = -f_n * ny + fy;
-  b.fz[i] = -f_n * nz + fz;
-  b.normal_force[i] = f_n;
-  b.normal_stiffness[i] = s_n;
+[[gnu::always_inline]] inline void solve_one(ContactBatch& b, int k, double dt) {
+  const LawOutput out = hertz_mindlin(
+      {b.nx[k], b.ny[k], b.nz[k], b.overlap[k], b.vx[k], b.vy[k], b.vz[k], b.r_star[k], b.m_star[k],
+       b.youngs_modulus[k], b.stiffness_ratio[k], b.root_stiffness_ratio[k], b.damping[k], b.static_friction[k]},
+      b.xi_x[k], b.xi_y[k], b.xi_z[k], dt);
+  b.fx[k] = out.fx, b.fy[k] = out.fy, b.fz[k] = out.fz;
+  b.normal_force[k] = out.normal_force;
+  b.normal_stiffness[k] = out.normal_stiffness;
+}
+
+// The same operations in the same order as Vec3's operators (core/vec3.hpp), so that a pair
+// gives the same bits here as through them.
+[[gnu::always_inline]] inline void solve_one(PairBatch& b, int k, double dt) {
+  const double dx = b.dx[k], dy = b.dy[k], dz = b.dz[k], ri = b.ri[k], rj = b.rj[k];
+  const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
+  const double inv = 1.0 / dist;
+  const double nx = dx * inv, ny = dy * inv, nz = dz * inv;
+  const double overlap = ri + rj - dist;
+  const double a_i = ri - 0.5 * overlap, a_j = rj - 0.5 * overlap;
+  // Arms from each centre of mass to the contact point.
+  const double oix = b.oix[k], oiy = b.oiy[k], oiz = b.oiz[k], ojx = b.ojx[k], ojy = b.ojy[k], ojz = b.ojz[k];
+  const double aix = oix + a_i * nx, aiy = oiy + a_i * ny, aiz = oiz + a_i * nz;
+  const double ajx = ojx - a_j * nx, ajy = ojy - a_j * ny, ajz = ojz - a_j * nz;
+  // Velocity of i's contact point minus j's: v_i + w_i x arm_i - v_j - w_j x arm_j.
+  const double wix = b.wix[k], wiy = b.wiy[k], wiz = b.wiz[k], wjx = b.wjx[k], wjy = b.wjy[k], wjz = b.wjz[k];
+  const double vx = b.vix[k] + (wiy * aiz - wiz * aiy) - b.vjx[k] - (wjy * ajz - wjz * ajy);
+  const double vy = b.viy[k] + (wiz * aix - wix * aiz) - b.vjy[k] - (wjz * ajx - wjx * ajz);
+  const double vz = b.viz[k] + (wix * aiy - wiy * aix) - b.vjz[k] - (wjx * ajy - wjy * ajx);
+  const double r_star = ri * rj / (ri + rj);
+  const double mi = b.mi[k], mj = b.mj[k];
+  const LawOutput out =
+      hertz_mindlin({nx, ny, nz, overlap, vx, vy, vz, r_star, mi * mj / (mi + mj), b.youngs_modulus[k],
+                     b.stiffness_ratio[k], b.root_stiffness_ratio[k], b.damping[k], b.static_friction[k]},
+                    b.xi_x[k], b.xi_y[k], b.xi_z[k], dt);
+  const double fx = out.fx, fy = out.fy, fz = out.fz;
+  b.nx[k] = nx, b.ny[k] = ny, b.nz[k] = nz;
+  b.r_star[k] = r_star;
+  b.ratio[k] = overlap / (ri < rj ? ri : rj);
+  b.fx[k] = fx, b.fy[k] = fy, b.fz[k] = fz;
+  b.tix[k] = aiy * fz - aiz * fy, b.tiy[k] = aiz * fx - aix * fz, b.tiz[k] = aix * fy - aiy * fx;
+  b.tjx[k] = ajy * -fz - ajz * -fy, b.tjy[k] = ajz * -fx - ajx * -fz, b.tjz[k] = ajx * -fy - ajy * -fx;
+  // An element at its body's centre of mass (a lone sphere) has its arm along n: length a.
+  // (& rather than &&: no branches, so that the loop vectorises)
+  const bool centred_i = (oix == 0.0) & (oiy == 0.0) & (oiz == 0.0);
+  const bool centred_j = (ojx == 0.0) & (ojy == 0.0) & (ojz == 0.0);
+  b.arm_i[k] = centred_i ? a_i : std::sqrt(aix * aix + aiy * aiy + aiz * aiz);
+  b.arm_j[k] = centred_j ? a_j : std::sqrt(ajx * ajx + ajy * ajy + ajz * ajz);
+  b.normal_force[k] = out.normal_force;
+  b.normal_stiffness[k] = out.normal_stiffness;
 }
 
 }  // namespace
@@ -54,12 +111,21 @@ inline void solve_one(ContactBatch& b, int i, double dt) {
 // Built twice where the compiler and the C library allow it: for AVX2 and for the baseline,
 // chosen once at load time by the processor.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
-__attribute__((target_clones("avx2", "default")))
+#define BUSHEL_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define BUSHEL_VECTOR_CLONES
 #endif
-void solve(ContactBatch& batch, double dt) {
+
+BUSHEL_VECTOR_CLONES void solve(ContactBatch& batch, double dt) {
   const int n = batch.size;
 #pragma omp simd
-  for (int i = 0; i < n; ++i) solve_one(batch, i, dt);
+  for (int k = 0; k < n; ++k) solve_one(batch, k, dt);
+}
+
+BUSHEL_VECTOR_CLONES void solve(PairBatch& batch, double dt) {
+  const int n = batch.size;
+#pragma omp simd
+  for (int k = 0; k < n; ++k) solve_one(batch, k, dt);
 }
 
 }  // namespace bushel

@@ -9,6 +9,7 @@
 #include <span>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #include "bushel/contact/contact_batch.hpp"
 #include "bushel/core/input_error.hpp"
@@ -25,24 +26,20 @@ double min_moment(const Vec3& i) { return std::min({i.x, i.y, i.z}); }
 // Equal principal moments (a sphere): L = I omega in any frame, so rotation needs no quaternion work.
 bool is_isotropic(const Vec3& i) { return i.x == i.y && i.y == i.z; }
 
-// A batch of contacts (sphere-sphere or sphere-part) on its way through the contact law:
-// the law's inputs in SoA form, and per contact what the rolling model, the torques and the
-// result slots need.
+// Sphere-part contacts on their way through the contact law: the law's inputs in SoA form,
+// and per contact what the rolling model, the torques and the result slots need.
 struct LaneExtra {
-  std::uint32_t element;  // the element on side i, whose own sums take the force
-  std::uint32_t item;     // pair index, or part-candidate index
-  bool part;              // a sphere-part contact (side j is the part)
+  std::uint32_t element;  // the sphere (side i), whose own sums take the force
+  std::uint32_t item;     // the part candidate, whose reaction takes the rest
   double* history;        // tangential displacement, then the rolling model's values
-  Vec3 arm_i, arm_j;      // contact point minus each centre of mass (a part: its origin) [m]
+  Vec3 arm_i, arm_j;      // contact point minus the body's centre of mass, and minus the part origin [m]
   Vec3 omega_i, omega_j;  // [rad/s], set only for rolling models that use them
-  double arm_i_len, arm_j_len, inertia_r, mu_r;
+  double arm_i_len, inertia_r, mu_r;
 };
 
-struct Lanes {
+struct PartLanes {
   ContactBatch batch;
   std::array<LaneExtra, ContactBatch::capacity> extra;
-
-  bool full() const { return batch.size == ContactBatch::capacity; }
 
   // The next contact's extra fields, filled in place (copying a whole LaneExtra stalls).
   LaneExtra& next() { return extra[static_cast<std::size_t>(batch.size)]; }
@@ -64,34 +61,20 @@ struct Lanes {
     const double* history = extra[static_cast<std::size_t>(k)].history;
     b.xi_x[k] = history[0], b.xi_y[k] = history[1], b.xi_z[k] = history[2];
   }
+};
 
-  // Solves the batch, updates the histories, applies rolling model R and hands each contact's
-  // force on side i and rolling output to `write`.
-  template <class Rolling, class Write>
-  void finish(double dt, Write&& write) {
-    ContactBatch& b = batch;
-    solve(b, dt);
-    for (int k = 0; k < b.size; ++k) {
-      const LaneExtra& e = extra[static_cast<std::size_t>(k)];
-      e.history[0] = b.xi_x[k], e.history[1] = b.xi_y[k], e.history[2] = b.xi_z[k];
-      Vec3 spring = Rolling::history_size ? load3(e.history + 3) : Vec3{};
-      const RollingOutput roll = Rolling::torque({{b.nx[k], b.ny[k], b.nz[k]},
-                                                  e.omega_i,
-                                                  e.omega_j,
-                                                  e.arm_i_len,
-                                                  e.arm_j_len,
-                                                  b.r_star[k],
-                                                  b.normal_force[k],
-                                                  b.normal_stiffness[k],
-                                                  e.mu_r,
-                                                  e.inertia_r,
-                                                  dt},
-                                                 spring);
-      if constexpr (Rolling::history_size > 0) store3(e.history + 3, spring);
-      write(e, Vec3{b.fx[k], b.fy[k], b.fz[k]}, roll);
-    }
-    b.size = 0;
-  }
+// Sphere-sphere contacts: the batch (which does their kinematics too), the pair and element
+// of each, and the touching pairs of the chunk at hand.
+struct PairLanes {
+  PairBatch batch;
+  std::array<std::uint32_t, PairBatch::capacity> element, pair;
+  std::array<double, PairBatch::capacity> mu_r;
+  std::vector<std::uint32_t> touching;
+};
+
+struct Workspace {
+  PairLanes pairs;
+  PartLanes parts;
 };
 
 // Everything the contact loop reads and writes, as plain views. The loop gets its own copy:
@@ -128,7 +111,7 @@ struct ChunkResult {
 // candidates; each element's own sums are zeroed and rebuilt here.
 template <class Rolling>
 ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint32_t e1, std::size_t p0, std::size_t p1,
-                          Lanes& lanes) {
+                          Workspace& work) {
   const ContactViews own = views;
   const auto [x_el, x_b, v_b, w_b, inertia, radius, mass, owner, sphere_count, species, first, second, part_start,
               sphere_of_candidate, part_of_candidate, candidate_face_start, candidate_faces, candidate_face_distance,
@@ -138,60 +121,112 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
   auto coefficients = [&](std::size_t a, std::size_t b) -> const PairCoefficients& {
     return coefficient_data[a * n_species + b];
   };
-  // A touching pair goes into the batch with side i = its first element; returns its
-  // overlap ratio, or -1 if it does not touch.
-  auto visit_pair = [&](std::size_t p) -> double {
-    const std::uint32_t i = first[p], j = second[p];
-    double* hist = history + p * static_cast<std::size_t>(h);
-    const Vec3 d = x_el[j] - x_el[i];
-    const double ri = radius[i], rj = radius[j];
-    const double dist2 = norm2(d);
-    if (dist2 >= (ri + rj) * (ri + rj)) {
-      if (active[p]) {  // contact over: history starts afresh, the slot reads as zero
-        std::fill_n(hist, h, 0.0);
-        pair_force[p] = pair_torque_j[p] = Vec3{};
-        pair_cdt_j[p] = 0.0;
-        active[p] = 0;
+  ChunkResult r;
+
+  // --- sphere-sphere ---------------------------------------------------------------------
+  // Solves the batch of pairs, updates their histories, applies rolling model R; side i adds
+  // to its element's own sums (in pair order), side j's share goes to the pair's slot.
+  PairLanes& pl = work.pairs;
+  PairBatch& pb = pl.batch;
+  auto finish_pairs = [&] {
+    solve(pb, dt);
+    for (int k = 0; k < pb.size; ++k) {
+      const auto kk = static_cast<std::size_t>(k);
+      const std::uint32_t i = pl.element[kk], p = pl.pair[kk];
+      double* hist = history + std::size_t{p} * static_cast<std::size_t>(h);
+      hist[0] = pb.xi_x[k], hist[1] = pb.xi_y[k], hist[2] = pb.xi_z[k];
+      Vec3 spring = Rolling::history_size ? load3(hist + 3) : Vec3{};
+      double inertia_r = 0.0;
+      if constexpr (std::is_same_v<Rolling, EpsdRolling>) {
+        const std::uint32_t bi = owner[i], bj = owner[second[p]];
+        const double ii = min_moment(inertia[bi]) + mass[bi] * pb.arm_i[k] * pb.arm_i[k];
+        const double ij = min_moment(inertia[bj]) + mass[bj] * pb.arm_j[k] * pb.arm_j[k];
+        inertia_r = ii * ij / (ii + ij);
       }
-      return -1.0;
+      const RollingOutput roll = Rolling::torque({{pb.nx[k], pb.ny[k], pb.nz[k]},
+                                                  {pb.wix[k], pb.wiy[k], pb.wiz[k]},
+                                                  {pb.wjx[k], pb.wjy[k], pb.wjz[k]},
+                                                  pb.arm_i[k],
+                                                  pb.arm_j[k],
+                                                  pb.r_star[k],
+                                                  pb.normal_force[k],
+                                                  pb.normal_stiffness[k],
+                                                  pl.mu_r[kk],
+                                                  inertia_r,
+                                                  dt},
+                                                 spring);
+      if constexpr (Rolling::history_size > 0) store3(hist + 3, spring);
+      const Vec3 f{pb.fx[k], pb.fy[k], pb.fz[k]};
+      Vec3 t_i{pb.tix[k], pb.tiy[k], pb.tiz[k]}, t_j{pb.tjx[k], pb.tjy[k], pb.tjz[k]};
+      if constexpr (Rolling::has_torque) t_i += roll.torque_i, t_j += roll.torque_j;
+      element_force[i] += f;
+      element_torque[i] += t_i;
+      element_cdt[i] += roll.cdt_i;
+      pair_force[p] = f;
+      pair_torque_j[p] = t_j;
+      pair_cdt_j[p] = roll.cdt_j;
+      r.max_ratio = std::max(r.max_ratio, pb.ratio[k]);
     }
-    active[p] = 1;
-    const double dist = std::sqrt(dist2);
-    const Vec3 n = d / dist;
-    const double overlap = ri + rj - dist;
-    const std::uint32_t bi = owner[i], bj = owner[j];
-    const bool lone_i = sphere_count[bi] == 1, lone_j = sphere_count[bj] == 1;
-    // Arms from each centre of mass to the contact point c = x_i + (r_i - delta/2) n; a lone
-    // sphere's centre of mass is its centre, so its arm lies along the normal.
-    const double a_i = ri - 0.5 * overlap, a_j = rj - 0.5 * overlap;
-    const Vec3 arm_i = lone_i ? a_i * n : x_el[i] + a_i * n - x_b[bi];
-    const Vec3 arm_j = lone_j ? -a_j * n : x_el[i] + a_i * n - x_b[bj];
-    const Vec3 v_rel = v_b[bi] + cross(w_b[bi], arm_i) - v_b[bj] - cross(w_b[bj], arm_j);
-    const double mi = mass[bi], mj = mass[bj];
-    const PairCoefficients& co = coefficients(species[i], species[j]);
-    LaneExtra& e = lanes.next();
-    e.element = i;
-    e.item = static_cast<std::uint32_t>(p);
-    e.part = false;
-    e.history = hist;
-    e.arm_i = arm_i;
-    e.arm_j = arm_j;
-    if constexpr (Rolling::uses_spin) {
-      e.omega_i = w_b[bi];
-      e.omega_j = w_b[bj];
-    }
-    e.arm_i_len = lone_i ? a_i : norm(arm_i);
-    e.arm_j_len = lone_j ? a_j : norm(arm_j);
-    e.inertia_r = 0.0;
-    e.mu_r = co.rolling_friction;
-    if constexpr (std::is_same_v<Rolling, EpsdRolling>) {
-      const double ii = min_moment(inertia[bi]) + mi * e.arm_i_len * e.arm_i_len;
-      const double ij = min_moment(inertia[bj]) + mj * e.arm_j_len * e.arm_j_len;
-      e.inertia_r = ii * ij / (ii + ij);
-    }
-    lanes.push(n, overlap, v_rel, ri * rj / (ri + rj), mi * mj / (mi + mj), co);
-    return overlap / std::min(ri, rj);
+    r.touching += static_cast<std::size_t>(pb.size);
+    pb.size = 0;
   };
+  std::fill(element_force.begin() + e0, element_force.begin() + e1, Vec3{});
+  std::fill(element_torque.begin() + e0, element_torque.begin() + e1, Vec3{});
+  std::fill(element_cdt.begin() + e0, element_cdt.begin() + e1, 0.0);
+  // Which pairs touch, without a branch on it: about a third of the pairs in the list do
+  // not, in no predictable order. A contact that ended has its history and slot zeroed.
+  pl.touching.resize(p1 - p0);
+  std::size_t n_touching = 0;
+  for (std::size_t p = p0; p < p1; ++p) {
+    const std::uint32_t i = first[p], j = second[p];
+    const double reach = radius[i] + radius[j];
+    const std::uint8_t touch = norm2(x_el[j] - x_el[i]) < reach * reach ? 1 : 0;
+    pl.touching[n_touching] = static_cast<std::uint32_t>(p);
+    n_touching += touch;
+    if (active[p] > touch) [[unlikely]] {
+      std::fill_n(history + p * static_cast<std::size_t>(h), h, 0.0);
+      pair_force[p] = pair_torque_j[p] = Vec3{};
+      pair_cdt_j[p] = 0.0;
+    }
+    active[p] = touch;
+  }
+  // The touching pairs into the batch, side i = the pair's first element.
+  for (std::size_t t = 0; t < n_touching; ++t) {
+    const std::uint32_t p = pl.touching[t];
+    const std::uint32_t i = first[p], j = second[p], bi = owner[i], bj = owner[j];
+    const int k = pb.size++;
+    const auto kk = static_cast<std::size_t>(k);
+    const Vec3 xi = x_el[i], xj = x_el[j];
+    // (a lone sphere's centre is its centre of mass: its body position is not read)
+    const Vec3 d = xj - xi, oi = sphere_count[bi] == 1 ? Vec3{} : xi - x_b[bi],
+               oj = sphere_count[bj] == 1 ? Vec3{} : xj - x_b[bj];
+    const Vec3 vi = v_b[bi], vj = v_b[bj], wi = w_b[bi], wj = w_b[bj];
+    pb.dx[k] = d.x, pb.dy[k] = d.y, pb.dz[k] = d.z;
+    pb.ri[k] = radius[i], pb.rj[k] = radius[j];
+    pb.oix[k] = oi.x, pb.oiy[k] = oi.y, pb.oiz[k] = oi.z;
+    pb.ojx[k] = oj.x, pb.ojy[k] = oj.y, pb.ojz[k] = oj.z;
+    pb.vix[k] = vi.x, pb.viy[k] = vi.y, pb.viz[k] = vi.z;
+    pb.vjx[k] = vj.x, pb.vjy[k] = vj.y, pb.vjz[k] = vj.z;
+    pb.wix[k] = wi.x, pb.wiy[k] = wi.y, pb.wiz[k] = wi.z;
+    pb.wjx[k] = wj.x, pb.wjy[k] = wj.y, pb.wjz[k] = wj.z;
+    pb.mi[k] = mass[bi], pb.mj[k] = mass[bj];
+    const PairCoefficients& co = coefficients(species[i], species[j]);
+    pb.youngs_modulus[k] = co.youngs_modulus;
+    pb.stiffness_ratio[k] = co.stiffness_ratio;
+    pb.root_stiffness_ratio[k] = co.root_stiffness_ratio;
+    pb.damping[k] = co.damping;
+    pb.static_friction[k] = co.static_friction;
+    const double* hist = history + std::size_t{p} * static_cast<std::size_t>(h);
+    pb.xi_x[k] = hist[0], pb.xi_y[k] = hist[1], pb.xi_z[k] = hist[2];
+    pl.element[kk] = i;
+    pl.pair[kk] = p;
+    pl.mu_r[kk] = co.rolling_friction;
+    if (pb.size == PairBatch::capacity) finish_pairs();
+  }
+  finish_pairs();
+
+  // --- sphere-part -----------------------------------------------------------------------
+  PartLanes& lanes = work.parts;
   // A part candidate's contacts (up to max_part_touches) go into the batch with side i = the
   // sphere. Each takes the history slot whose stored normal is closest to its own, so that
   // a contact sliding across the triangles of one part keeps its history. Returns the
@@ -241,7 +276,6 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       LaneExtra& e = lanes.next();
       e.element = s;
       e.item = static_cast<std::uint32_t>(cw);
-      e.part = true;
       e.history = hist + 3;
       e.arm_i = arm;
       e.arm_j = point - origin;  // for the reaction's torque about the part origin
@@ -250,7 +284,6 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
         e.omega_j = part.twist.angular_velocity;
       }
       e.arm_i_len = arm_len;
-      e.arm_j_len = 0.0;
       e.inertia_r = min_moment(inertia[b]) + mass[b] * arm_len * arm_len;
       e.mu_r = co.rolling_friction;
       lanes.push(normal, t.overlap, v_rel, radius[s], mass[b], co);
@@ -262,38 +295,43 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     }
     return max_ratio;
   };
-  // Side i adds to its element's own sums (in pair order, then parts); side j's share goes to
-  // the pair's slot, or to the part candidate's reaction.
-  auto write = [&](const LaneExtra& e, const Vec3& f, const RollingOutput& roll) {
-    element_force[e.element] += f;
-    element_torque[e.element] += cross(e.arm_i, f) + roll.torque_i;
-    element_cdt[e.element] += roll.cdt_i;
-    if (e.part) {  // a candidate may have several contacts
+  // Solves the batch, updates the histories, applies rolling model R; the sphere adds to its
+  // element's own sums (after its pairs), the part candidate's reaction takes the rest (a
+  // candidate may have several contacts).
+  auto finish_parts = [&] {
+    ContactBatch& b = lanes.batch;
+    solve(b, dt);
+    for (int k = 0; k < b.size; ++k) {
+      const LaneExtra& e = lanes.extra[static_cast<std::size_t>(k)];
+      e.history[0] = b.xi_x[k], e.history[1] = b.xi_y[k], e.history[2] = b.xi_z[k];
+      Vec3 spring = Rolling::history_size ? load3(e.history + 3) : Vec3{};
+      const RollingOutput roll = Rolling::torque({{b.nx[k], b.ny[k], b.nz[k]},
+                                                  e.omega_i,
+                                                  e.omega_j,
+                                                  e.arm_i_len,
+                                                  0.0,
+                                                  b.r_star[k],
+                                                  b.normal_force[k],
+                                                  b.normal_stiffness[k],
+                                                  e.mu_r,
+                                                  e.inertia_r,
+                                                  dt},
+                                                 spring);
+      if constexpr (Rolling::history_size > 0) store3(e.history + 3, spring);
+      const Vec3 f{b.fx[k], b.fy[k], b.fz[k]};
+      element_force[e.element] += f;
+      element_torque[e.element] += cross(e.arm_i, f) + roll.torque_i;
+      element_cdt[e.element] += roll.cdt_i;
       part_reaction[2 * std::size_t{e.item}] -= f;
       part_reaction[2 * std::size_t{e.item} + 1] += cross(e.arm_j, -f) - roll.torque_i;
-    } else {
-      pair_force[e.item] = f;
-      pair_torque_j[e.item] = cross(e.arm_j, -f) + roll.torque_j;
-      pair_cdt_j[e.item] = roll.cdt_j;
     }
+    b.size = 0;
   };
-
-  ChunkResult r;
-  std::fill(element_force.begin() + e0, element_force.begin() + e1, Vec3{});
-  std::fill(element_torque.begin() + e0, element_torque.begin() + e1, Vec3{});
-  std::fill(element_cdt.begin() + e0, element_cdt.begin() + e1, 0.0);
-  for (std::size_t p = p0; p < p1; ++p) {
-    const double ratio = visit_pair(p);
-    if (ratio < 0.0) continue;
-    r.max_ratio = std::max(r.max_ratio, ratio);
-    ++r.touching;
-    if (lanes.full()) lanes.finish<Rolling>(dt, write);
-  }
   for (std::size_t cw = part_start[e0]; cw < part_start[e1]; ++cw) {
-    if (lanes.batch.size + max_part_touches > ContactBatch::capacity) lanes.finish<Rolling>(dt, write);
+    if (lanes.batch.size + max_part_touches > ContactBatch::capacity) finish_parts();
     r.max_ratio = std::max(r.max_ratio, visit_part(cw));
   }
-  lanes.finish<Rolling>(dt, write);
+  finish_parts();
   return r;
 }
 
@@ -611,13 +649,13 @@ void Simulation::compute_forces(const Rolling&) {
 #pragma omp parallel reduction(max : max_ratio) reduction(+ : touching) if (static_cast <std::ptrdiff_t>(ps.spheres()) > \
                                                                                 parallel_threshold)
   {
-    auto lanes = std::make_unique<Lanes>();
+    auto work = std::make_unique<Workspace>();
 #pragma omp for schedule(static)
     for (std::ptrdiff_t c = 0; c < n_chunks; ++c) {
       const std::uint32_t e0 = chunk_start_[static_cast<std::size_t>(c)];
       const std::uint32_t e1 = chunk_start_[static_cast<std::size_t>(c) + 1];
       const ChunkResult r =
-          contact_chunk<Rolling>(views, e0, e1, neighbors_.begin_of(e0), neighbors_.begin_of(e1), *lanes);
+          contact_chunk<Rolling>(views, e0, e1, neighbors_.begin_of(e0), neighbors_.begin_of(e1), *work);
       max_ratio = std::max(max_ratio, r.max_ratio);
       touching += r.touching;
     }

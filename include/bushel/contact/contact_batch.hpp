@@ -3,7 +3,7 @@
 // contacts at once. The batch is in structure-of-arrays form and the law is written without
 // branches, so the compiler runs several contacts per instruction (SSE2, or AVX2 where the
 // processor has it; both give the same bits: only IEEE add, multiply, divide and square root,
-// no fused multiply-add). Sphere-sphere and sphere-wall contacts both go through here.
+// no fused multiply-add). Sphere-sphere and sphere-part contacts both go through this law.
 //
 // Per contact, with delta the overlap, v the relative velocity of i's contact point, n the
 // unit normal from i to j, v_n = v . n (approach speed) and v_t = v - v_n n:
@@ -16,6 +16,7 @@
 
 namespace bushel {
 
+/// Contacts whose normal, overlap and relative velocity are known (sphere-part contacts).
 struct ContactBatch {
   static constexpr int capacity = 128;
   int size = 0;  ///< contacts in use
@@ -41,5 +42,47 @@ struct ContactBatch {
 
 /// Solves contacts [0, batch.size) over a time step dt [s].
 void solve(ContactBatch& batch, double dt);
+
+/// Sphere-sphere contacts given by the two spheres and their bodies' motion: the batch also
+/// does the kinematics (normal, overlap, arms, relative velocity of the contact point) and the
+/// torques, so that all the vector algebra of a contact runs vectorised and the contact loop
+/// only gathers and scatters. Element i's centre is at o_i from its body's centre of mass
+/// (zero for a lone sphere); the contact point is c = x_i + (r_i - delta/2) n, so the arms
+/// are o_i + (r_i - delta/2) n and o_j - (r_j - delta/2) n.
+struct PairBatch {
+  static constexpr int capacity = 32;
+  int size = 0;  ///< contacts in use
+
+  // --- in ---------------------------------------------------------------------------------
+  double dx[capacity], dy[capacity], dz[capacity];     ///< centre of j minus centre of i [m]
+  double ri[capacity], rj[capacity];                   ///< radii [m]
+  double oix[capacity], oiy[capacity], oiz[capacity];  ///< centre of i minus its body's centre of mass [m]
+  double ojx[capacity], ojy[capacity], ojz[capacity];  ///< the same for j [m]
+  double vix[capacity], viy[capacity], viz[capacity];  ///< velocity of i's body [m/s]
+  double vjx[capacity], vjy[capacity], vjz[capacity];  ///< velocity of j's body [m/s]
+  double wix[capacity], wiy[capacity], wiz[capacity];  ///< angular velocity of i's body [rad/s]
+  double wjx[capacity], wjy[capacity], wjz[capacity];  ///< angular velocity of j's body [rad/s]
+  double mi[capacity], mj[capacity];                   ///< body masses [kg]
+  double youngs_modulus[capacity];                     ///< E* [Pa]
+  double stiffness_ratio[capacity];                    ///< k = S_t / S_n [-]
+  double root_stiffness_ratio[capacity];               ///< sqrt(k) [-]
+  double damping[capacity];                            ///< gamma [-]
+  double static_friction[capacity];                    ///< mu_s [-]
+  // --- in and out -------------------------------------------------------------------------
+  double xi_x[capacity], xi_y[capacity], xi_z[capacity];  ///< tangential displacement [m]
+  // --- out --------------------------------------------------------------------------------
+  double nx[capacity], ny[capacity], nz[capacity];     ///< unit normal from i to j
+  double r_star[capacity];                             ///< R* [m]
+  double ratio[capacity];                              ///< overlap over the smaller radius [-]
+  double fx[capacity], fy[capacity], fz[capacity];     ///< force on i [N]
+  double tix[capacity], tiy[capacity], tiz[capacity];  ///< its torque on i's body, arm_i x F [N m]
+  double tjx[capacity], tjy[capacity], tjz[capacity];  ///< the reaction's torque on j's body, arm_j x -F [N m]
+  double arm_i[capacity], arm_j[capacity];             ///< arm lengths [m]
+  double normal_force[capacity];                       ///< F_n >= 0 [N]
+  double normal_stiffness[capacity];                   ///< S_n [N/m]
+};
+
+/// Solves touching pairs [0, batch.size) over a time step dt [s].
+void solve(PairBatch& batch, double dt);
 
 }  // namespace bushel

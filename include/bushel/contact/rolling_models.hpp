@@ -35,7 +35,8 @@ struct RollingOutput {
 struct NoRolling {
   static constexpr const char* name = "none";
   static constexpr int history_size = 0;
-  static constexpr bool uses_spin = false;  ///< reads omega_i, omega_j
+  static constexpr bool uses_spin = false;   ///< reads omega_i, omega_j
+  static constexpr bool has_torque = false;  ///< returns torque vectors (else only cdt_i, cdt_j)
   static RollingOutput torque(const RollingInput&, Vec3&) { return {}; }
 };
 
@@ -47,6 +48,7 @@ struct CdtRolling {
   static constexpr const char* name = "cdt";
   static constexpr int history_size = 0;
   static constexpr bool uses_spin = false;  // the integrator applies it against each spin
+  static constexpr bool has_torque = false;
   static RollingOutput torque(const RollingInput& in, Vec3&) {
     RollingOutput out;
     out.cdt_i = in.mu_r * in.normal_force * in.arm_i;
@@ -62,6 +64,7 @@ struct EpsdRolling {
   static constexpr const char* name = "epsd";
   static constexpr int history_size = 3;
   static constexpr bool uses_spin = true;
+  static constexpr bool has_torque = true;
   static constexpr double damping_ratio = 0.3;  ///< eta_r, Ai et al.'s recommended value
   static RollingOutput torque(const RollingInput& in, Vec3& spring) {
     Vec3 w = in.omega_i - in.omega_j;
