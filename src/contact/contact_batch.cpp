@@ -48,10 +48,10 @@ struct LawOutput {
   fx *= cut, fy *= cut, fz *= cut;
   // Sliding: the spring holds the Coulomb force.
   const bool spring = sliding && s_t > 0.0;
-  const double s_t_safe = s_t > 0.0 ? s_t : 1.0;
-  xi_x = spring ? -(fx + gamma_t * tx) / s_t_safe : (sliding ? 0.0 : x);
-  xi_y = spring ? -(fy + gamma_t * ty) / s_t_safe : (sliding ? 0.0 : y);
-  xi_z = spring ? -(fz + gamma_t * tz) / s_t_safe : (sliding ? 0.0 : z);
+  const double inverse_s_t = 1.0 / (s_t > 0.0 ? s_t : 1.0);  // one division for three
+  xi_x = spring ? -(fx + gamma_t * tx) * inverse_s_t : (sliding ? 0.0 : x);
+  xi_y = spring ? -(fy + gamma_t * ty) * inverse_s_t : (sliding ? 0.0 : y);
+  xi_z = spring ? -(fz + gamma_t * tz) * inverse_s_t : (sliding ? 0.0 : z);
   return {-f_n * nx + fx, -f_n * ny + fy, -f_n * nz + fz, f_n, s_n};
 }
 
@@ -66,7 +66,10 @@ struct LawOutput {
 }
 
 // The same operations in the same order as Vec3's operators (core/vec3.hpp), so that a pair
-// gives the same bits here as through them.
+// gives the same bits here as through them. Centred: both elements are at their bodies'
+// centres of mass (the offsets are zero), so the arm lengths need no square root. The
+// divider is what limits this loop, so it divides as little as it can.
+template <bool centred>
 [[gnu::always_inline]] inline void solve_one(PairBatch& b, int k, double dt) {
   const double dx = b.dx[k], dy = b.dy[k], dz = b.dz[k], ri = b.ri[k], rj = b.rj[k];
   const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
@@ -92,16 +95,13 @@ struct LawOutput {
   const double fx = out.fx, fy = out.fy, fz = out.fz;
   b.nx[k] = nx, b.ny[k] = ny, b.nz[k] = nz;
   b.r_star[k] = r_star;
-  b.ratio[k] = overlap / (ri < rj ? ri : rj);
+  b.overlap[k] = overlap;
   b.fx[k] = fx, b.fy[k] = fy, b.fz[k] = fz;
   b.tix[k] = aiy * fz - aiz * fy, b.tiy[k] = aiz * fx - aix * fz, b.tiz[k] = aix * fy - aiy * fx;
   b.tjx[k] = ajy * -fz - ajz * -fy, b.tjy[k] = ajz * -fx - ajx * -fz, b.tjz[k] = ajx * -fy - ajy * -fx;
-  // An element at its body's centre of mass (a lone sphere) has its arm along n: length a.
-  // (& rather than &&: no branches, so that the loop vectorises)
-  const bool centred_i = (oix == 0.0) & (oiy == 0.0) & (oiz == 0.0);
-  const bool centred_j = (ojx == 0.0) & (ojy == 0.0) & (ojz == 0.0);
-  b.arm_i[k] = centred_i ? a_i : std::sqrt(aix * aix + aiy * aiy + aiz * aiz);
-  b.arm_j[k] = centred_j ? a_j : std::sqrt(ajx * ajx + ajy * ajy + ajz * ajz);
+  // An element at its body's centre of mass has its arm along n: length a.
+  b.arm_i[k] = centred ? a_i : std::sqrt(aix * aix + aiy * aiy + aiz * aiz);
+  b.arm_j[k] = centred ? a_j : std::sqrt(ajx * ajx + ajy * ajy + ajz * ajz);
   b.normal_force[k] = out.normal_force;
   b.normal_stiffness[k] = out.normal_stiffness;
 }
@@ -124,8 +124,13 @@ BUSHEL_VECTOR_CLONES void solve(ContactBatch& batch, double dt) {
 
 BUSHEL_VECTOR_CLONES void solve(PairBatch& batch, double dt) {
   const int n = batch.size;
+  if (batch.centred) {
 #pragma omp simd
-  for (int k = 0; k < n; ++k) solve_one(batch, k, dt);
+    for (int k = 0; k < n; ++k) solve_one<true>(batch, k, dt);
+  } else {
+#pragma omp simd
+    for (int k = 0; k < n; ++k) solve_one<false>(batch, k, dt);
+  }
 }
 
 }  // namespace bushel

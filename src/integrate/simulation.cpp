@@ -128,6 +128,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
   // to its element's own sums (in pair order), side j's share goes to the pair's slot.
   PairLanes& pl = work.pairs;
   PairBatch& pb = pl.batch;
+  double deepest = 0.0, deepest_radius = 1.0;  // overlap and radius of the largest ratio [m]
   auto finish_pairs = [&] {
     solve(pb, dt);
     for (int k = 0; k < pb.size; ++k) {
@@ -165,10 +166,13 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       pair_force[p] = f;
       pair_torque_j[p] = t_j;
       pair_cdt_j[p] = roll.cdt_j;
-      r.max_ratio = std::max(r.max_ratio, pb.ratio[k]);
+      // The largest overlap over the smaller radius, compared by cross-multiplying.
+      const double smaller = std::min(pb.ri[k], pb.rj[k]);
+      if (pb.overlap[k] * deepest_radius > deepest * smaller) deepest = pb.overlap[k], deepest_radius = smaller;
     }
     r.touching += static_cast<std::size_t>(pb.size);
     pb.size = 0;
+    pb.centred = true;
   };
   std::fill(element_force.begin() + e0, element_force.begin() + e1, Vec3{});
   std::fill(element_torque.begin() + e0, element_torque.begin() + e1, Vec3{});
@@ -198,8 +202,9 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     const auto kk = static_cast<std::size_t>(k);
     const Vec3 xi = x_el[i], xj = x_el[j];
     // (a lone sphere's centre is its centre of mass: its body position is not read)
-    const Vec3 d = xj - xi, oi = sphere_count[bi] == 1 ? Vec3{} : xi - x_b[bi],
-               oj = sphere_count[bj] == 1 ? Vec3{} : xj - x_b[bj];
+    const bool lone_i = sphere_count[bi] == 1, lone_j = sphere_count[bj] == 1;
+    const Vec3 d = xj - xi, oi = lone_i ? Vec3{} : xi - x_b[bi], oj = lone_j ? Vec3{} : xj - x_b[bj];
+    pb.centred = pb.centred && lone_i && lone_j;
     const Vec3 vi = v_b[bi], vj = v_b[bj], wi = w_b[bi], wj = w_b[bj];
     pb.dx[k] = d.x, pb.dy[k] = d.y, pb.dz[k] = d.z;
     pb.ri[k] = radius[i], pb.rj[k] = radius[j];
@@ -224,6 +229,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     if (pb.size == PairBatch::capacity) finish_pairs();
   }
   finish_pairs();
+  r.max_ratio = deepest / deepest_radius;
 
   // --- sphere-part -----------------------------------------------------------------------
   PartLanes& lanes = work.parts;

@@ -71,6 +71,8 @@ TEST(PairBatch, MatchesContactBatchWithVec3Kinematics) {
     contacts.m_star[k] = si[k].mass * sj[k].mass / (si[k].mass + sj[k].mass);
   }
   pairs.size = contacts.size = PairBatch::capacity;
+  pairs.centred = false;   // half of them are clump parts
+  PairBatch lone = pairs;  // all at their centres of mass (below)
   solve(pairs, dt);
   solve(contacts, dt);
 
@@ -97,7 +99,7 @@ TEST(PairBatch, MatchesContactBatchWithVec3Kinematics) {
     EXPECT_NEAR(pairs.xi_x[k], contacts.xi_x[k], 1e-18);
     EXPECT_NEAR(pairs.xi_y[k], contacts.xi_y[k], 1e-18);
     EXPECT_NEAR(pairs.xi_z[k], contacts.xi_z[k], 1e-18);
-    EXPECT_NEAR(pairs.ratio[k], contacts.overlap[k] / std::min(si[k].radius, sj[k].radius), 1e-9);
+    EXPECT_NEAR(pairs.overlap[k], contacts.overlap[k], 1e-18);
     if (k % 2 == 0) {  // lone spheres: the same operations in the same order, the same bits
       EXPECT_EQ(pairs.fx[k], f.x);
       EXPECT_EQ(pairs.fy[k], f.y);
@@ -108,6 +110,24 @@ TEST(PairBatch, MatchesContactBatchWithVec3Kinematics) {
   }
   EXPECT_GT(sliding, 0);  // the Coulomb cut was exercised
   EXPECT_LT(sliding, PairBatch::capacity);
+
+  // With every offset zero, the centred kernel (arm lengths without a square root) gives the
+  // same as the general one.
+  for (int k = 0; k < PairBatch::capacity; ++k) {
+    lone.oix[k] = lone.oiy[k] = lone.oiz[k] = lone.ojx[k] = lone.ojy[k] = lone.ojz[k] = 0.0;
+  }
+  PairBatch general = lone;
+  solve(general, dt);
+  lone.centred = true;
+  solve(lone, dt);
+  for (int k = 0; k < PairBatch::capacity; ++k) {
+    SCOPED_TRACE(k);
+    EXPECT_EQ(lone.fx[k], general.fx[k]);
+    EXPECT_EQ(lone.tjz[k], general.tjz[k]);
+    EXPECT_EQ(lone.xi_y[k], general.xi_y[k]);
+    EXPECT_NEAR(lone.arm_i[k], general.arm_i[k], 1e-15 * general.arm_i[k]);
+    EXPECT_NEAR(lone.arm_j[k], general.arm_j[k], 1e-15 * general.arm_j[k]);
+  }
 }
 
 }  // namespace

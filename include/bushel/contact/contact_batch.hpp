@@ -51,7 +51,8 @@ void solve(ContactBatch& batch, double dt);
 /// are o_i + (r_i - delta/2) n and o_j - (r_j - delta/2) n.
 struct PairBatch {
   static constexpr int capacity = 32;
-  int size = 0;  ///< contacts in use
+  int size = 0;         ///< contacts in use
+  bool centred = true;  ///< every element is at its body's centre of mass (all o are zero)
 
   // --- in ---------------------------------------------------------------------------------
   double dx[capacity], dy[capacity], dz[capacity];     ///< centre of j minus centre of i [m]
@@ -73,7 +74,7 @@ struct PairBatch {
   // --- out --------------------------------------------------------------------------------
   double nx[capacity], ny[capacity], nz[capacity];     ///< unit normal from i to j
   double r_star[capacity];                             ///< R* [m]
-  double ratio[capacity];                              ///< overlap over the smaller radius [-]
+  double overlap[capacity];                            ///< delta [m]
   double fx[capacity], fy[capacity], fz[capacity];     ///< force on i [N]
   double tix[capacity], tiy[capacity], tiz[capacity];  ///< its torque on i's body, arm_i x F [N m]
   double tjx[capacity], tjy[capacity], tjz[capacity];  ///< the reaction's torque on j's body, arm_j x -F [N m]
