@@ -67,10 +67,12 @@ struct LawOutput {
 
 // The same operations in the same order as Vec3's operators (core/vec3.hpp), so that a pair
 // gives the same bits here as through them. Centred: both elements are at their bodies'
-// centres of mass (the offsets are zero), so the arm lengths need no square root. The
-// divider is what limits this loop, so it divides as little as it can.
-template <bool centred>
+// centres of mass (the offsets are zero and not read), so the arm lengths need no square
+// root. Uniform: the coefficients are lane 0's. The divider is what limits this loop, so it
+// divides as little as it can.
+template <bool centred, bool uniform>
 [[gnu::always_inline]] inline void solve_one(PairBatch& b, int k, double dt) {
+  const int c = uniform ? 0 : k;
   const double dx = b.dx[k], dy = b.dy[k], dz = b.dz[k], ri = b.ri[k], rj = b.rj[k];
   const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
   const double inv = 1.0 / dist;
@@ -78,7 +80,8 @@ template <bool centred>
   const double overlap = ri + rj - dist;
   const double a_i = ri - 0.5 * overlap, a_j = rj - 0.5 * overlap;
   // Arms from each centre of mass to the contact point.
-  const double oix = b.oix[k], oiy = b.oiy[k], oiz = b.oiz[k], ojx = b.ojx[k], ojy = b.ojy[k], ojz = b.ojz[k];
+  const double oix = centred ? 0.0 : b.oix[k], oiy = centred ? 0.0 : b.oiy[k], oiz = centred ? 0.0 : b.oiz[k];
+  const double ojx = centred ? 0.0 : b.ojx[k], ojy = centred ? 0.0 : b.ojy[k], ojz = centred ? 0.0 : b.ojz[k];
   const double aix = oix + a_i * nx, aiy = oiy + a_i * ny, aiz = oiz + a_i * nz;
   const double ajx = ojx - a_j * nx, ajy = ojy - a_j * ny, ajz = ojz - a_j * nz;
   // Velocity of i's contact point minus j's: v_i + w_i x arm_i - v_j - w_j x arm_j.
@@ -89,8 +92,8 @@ template <bool centred>
   const double r_star = ri * rj / (ri + rj);
   const double mi = b.mi[k], mj = b.mj[k];
   const LawOutput out =
-      hertz_mindlin({nx, ny, nz, overlap, vx, vy, vz, r_star, mi * mj / (mi + mj), b.youngs_modulus[k],
-                     b.stiffness_ratio[k], b.root_stiffness_ratio[k], b.damping[k], b.static_friction[k]},
+      hertz_mindlin({nx, ny, nz, overlap, vx, vy, vz, r_star, mi * mj / (mi + mj), b.youngs_modulus[c],
+                     b.stiffness_ratio[c], b.root_stiffness_ratio[c], b.damping[c], b.static_friction[c]},
                     b.xi_x[k], b.xi_y[k], b.xi_z[k], dt);
   const double fx = out.fx, fy = out.fy, fz = out.fz;
   b.nx[k] = nx, b.ny[k] = ny, b.nz[k] = nz;
@@ -122,14 +125,20 @@ BUSHEL_VECTOR_CLONES void solve(ContactBatch& batch, double dt) {
   for (int k = 0; k < n; ++k) solve_one(batch, k, dt);
 }
 
-BUSHEL_VECTOR_CLONES void solve(PairBatch& batch, double dt) {
+namespace {
+template <bool centred, bool uniform>
+[[gnu::always_inline]] inline void solve_all(PairBatch& batch, double dt) {
   const int n = batch.size;
+#pragma omp simd
+  for (int k = 0; k < n; ++k) solve_one<centred, uniform>(batch, k, dt);
+}
+}  // namespace
+
+BUSHEL_VECTOR_CLONES void solve(PairBatch& batch, double dt) {
   if (batch.centred) {
-#pragma omp simd
-    for (int k = 0; k < n; ++k) solve_one<true>(batch, k, dt);
+    batch.uniform ? solve_all<true, true>(batch, dt) : solve_all<true, false>(batch, dt);
   } else {
-#pragma omp simd
-    for (int k = 0; k < n; ++k) solve_one<false>(batch, k, dt);
+    batch.uniform ? solve_all<false, true>(batch, dt) : solve_all<false, false>(batch, dt);
   }
 }
 

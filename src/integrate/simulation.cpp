@@ -70,6 +70,42 @@ struct PairLanes {
   std::array<std::uint32_t, PairBatch::capacity> element, pair;
   std::array<double, PairBatch::capacity> mu_r;
   std::vector<std::uint32_t> touching;
+  const PairCoefficients* shared = nullptr;  // lane 0's coefficients
+
+  // Lane k's offsets: not stored while every pair so far is of lone spheres (centred); the
+  // first that is not zeroes those before it.
+  void set_offsets(int k, bool lone, const Vec3& oi, const Vec3& oj) {
+    PairBatch& b = batch;
+    if (!lone && b.centred) {
+      std::fill_n(b.oix, k, 0.0), std::fill_n(b.oiy, k, 0.0), std::fill_n(b.oiz, k, 0.0);
+      std::fill_n(b.ojx, k, 0.0), std::fill_n(b.ojy, k, 0.0), std::fill_n(b.ojz, k, 0.0);
+      b.centred = false;
+    }
+    if (b.centred) return;
+    b.oix[k] = oi.x, b.oiy[k] = oi.y, b.oiz[k] = oi.z;
+    b.ojx[k] = oj.x, b.ojy[k] = oj.y, b.ojz[k] = oj.z;
+  }
+  // Lane k's coefficients: stored in lane 0 only while every pair so far has the same (one
+  // material, the usual case); the first that differs copies lane 0's to those before it.
+  void set_coefficients(int k, const PairCoefficients& co) {
+    PairBatch& b = batch;
+    if (k == 0) {
+      shared = &co;
+    } else if (b.uniform) {
+      if (&co == shared) return;
+      std::fill_n(b.youngs_modulus + 1, k - 1, b.youngs_modulus[0]);
+      std::fill_n(b.stiffness_ratio + 1, k - 1, b.stiffness_ratio[0]);
+      std::fill_n(b.root_stiffness_ratio + 1, k - 1, b.root_stiffness_ratio[0]);
+      std::fill_n(b.damping + 1, k - 1, b.damping[0]);
+      std::fill_n(b.static_friction + 1, k - 1, b.static_friction[0]);
+      b.uniform = false;
+    }
+    b.youngs_modulus[k] = co.youngs_modulus;
+    b.stiffness_ratio[k] = co.stiffness_ratio;
+    b.root_stiffness_ratio[k] = co.root_stiffness_ratio;
+    b.damping[k] = co.damping;
+    b.static_friction[k] = co.static_friction;
+  }
 };
 
 struct Workspace {
@@ -172,7 +208,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     }
     r.touching += static_cast<std::size_t>(pb.size);
     pb.size = 0;
-    pb.centred = true;
+    pb.centred = pb.uniform = true;
   };
   std::fill(element_force.begin() + e0, element_force.begin() + e1, Vec3{});
   std::fill(element_torque.begin() + e0, element_torque.begin() + e1, Vec3{});
@@ -201,26 +237,20 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     const int k = pb.size++;
     const auto kk = static_cast<std::size_t>(k);
     const Vec3 xi = x_el[i], xj = x_el[j];
+    const Vec3 d = xj - xi;
     // (a lone sphere's centre is its centre of mass: its body position is not read)
     const bool lone_i = sphere_count[bi] == 1, lone_j = sphere_count[bj] == 1;
-    const Vec3 d = xj - xi, oi = lone_i ? Vec3{} : xi - x_b[bi], oj = lone_j ? Vec3{} : xj - x_b[bj];
-    pb.centred = pb.centred && lone_i && lone_j;
+    pl.set_offsets(k, lone_i && lone_j, lone_i ? Vec3{} : xi - x_b[bi], lone_j ? Vec3{} : xj - x_b[bj]);
     const Vec3 vi = v_b[bi], vj = v_b[bj], wi = w_b[bi], wj = w_b[bj];
     pb.dx[k] = d.x, pb.dy[k] = d.y, pb.dz[k] = d.z;
     pb.ri[k] = radius[i], pb.rj[k] = radius[j];
-    pb.oix[k] = oi.x, pb.oiy[k] = oi.y, pb.oiz[k] = oi.z;
-    pb.ojx[k] = oj.x, pb.ojy[k] = oj.y, pb.ojz[k] = oj.z;
     pb.vix[k] = vi.x, pb.viy[k] = vi.y, pb.viz[k] = vi.z;
     pb.vjx[k] = vj.x, pb.vjy[k] = vj.y, pb.vjz[k] = vj.z;
     pb.wix[k] = wi.x, pb.wiy[k] = wi.y, pb.wiz[k] = wi.z;
     pb.wjx[k] = wj.x, pb.wjy[k] = wj.y, pb.wjz[k] = wj.z;
     pb.mi[k] = mass[bi], pb.mj[k] = mass[bj];
     const PairCoefficients& co = coefficients(species[i], species[j]);
-    pb.youngs_modulus[k] = co.youngs_modulus;
-    pb.stiffness_ratio[k] = co.stiffness_ratio;
-    pb.root_stiffness_ratio[k] = co.root_stiffness_ratio;
-    pb.damping[k] = co.damping;
-    pb.static_friction[k] = co.static_friction;
+    pl.set_coefficients(k, co);
     const double* hist = history + std::size_t{p} * static_cast<std::size_t>(h);
     pb.xi_x[k] = hist[0], pb.xi_y[k] = hist[1], pb.xi_z[k] = hist[2];
     pl.element[kk] = i;

@@ -52,7 +52,8 @@ void solve(ContactBatch& batch, double dt);
 struct PairBatch {
   static constexpr int capacity = 32;
   int size = 0;         ///< contacts in use
-  bool centred = true;  ///< every element is at its body's centre of mass (all o are zero)
+  bool centred = true;  ///< every element is at its body's centre of mass (o = 0, not read)
+  bool uniform = true;  ///< every contact has lane 0's coefficients (the other lanes' not read)
 
   // --- in ---------------------------------------------------------------------------------
   double dx[capacity], dy[capacity], dz[capacity];     ///< centre of j minus centre of i [m]

@@ -2,11 +2,11 @@
 // The time stepper: particles, geometry parts, contact laws and the neighbour list brought together
 // (ARCHITECTURE.md, "Time step"). One step:
 //   1. rebuild the neighbour list if needed (spatially sorting the particles every few builds)
-//   2. contacts, in parallel over fixed runs of elements (each about one batch of 128
-//      contacts): every element sums its own pairs (as first element) and its nearby
+//   2. contacts, in parallel over fixed runs of elements (each about 128 pairs and part
+//      candidates): every element sums its own pairs (as first element) and its nearby
 //      geometry parts (part_contact.hpp: one contact per touch of a part's surface); the share
-//      of each pair's second element goes to the pair's slot. The contact law runs over the
-//      batch at once (contact_batch.hpp).
+//      of each pair's second element goes to the pair's slot. The contact law runs over
+//      batches of contacts at once (contact_batch.hpp).
 //   3. gather onto bodies in a fixed order (thread-count independent): the elements' own
 //      sums plus the slots of pairs in which they are second
 //   4. integrate (symplectic Euler or velocity Verlet; quaternion rigid rotation)
