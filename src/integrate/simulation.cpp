@@ -17,6 +17,10 @@
 #include "bushel/geometry/part_contact.hpp"
 #include "bushel/integrate/rigid_rotation.hpp"
 
+#ifdef BUSHEL_HAVE_OPENMP
+#include <omp.h>
+#endif
+
 namespace bushel {
 namespace {
 
@@ -130,6 +134,9 @@ struct ContactViews {
   std::span<std::uint8_t> active;
   std::span<Vec3> pair_force, pair_torque_j, element_force, element_torque, part_reaction;
   std::span<double> pair_cdt_j, element_cdt;
+  std::span<const std::uint8_t> second_direct;
+  std::span<Vec3> second_force, second_torque;
+  std::span<double> second_cdt;
   const PairCoefficients* coefficients;
   std::size_t n_species, n_types;
   std::span<const Part> parts;
@@ -152,8 +159,8 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
   const auto [x_el, x_b, v_b, w_b, inertia, radius, mass, owner, sphere_count, species, first, second, part_start,
               sphere_of_candidate, part_of_candidate, candidate_face_start, candidate_faces, candidate_face_distance,
               element_moved2, history, part_history, candidate_touches, active, pair_force, pair_torque_j,
-              element_force, element_torque, part_reaction, pair_cdt_j, element_cdt, coefficient_data, n_species,
-              n_types, parts, part_cache, h, dt] = own;
+              element_force, element_torque, part_reaction, pair_cdt_j, element_cdt, second_direct, second_force,
+              second_torque, second_cdt, coefficient_data, n_species, n_types, parts, part_cache, h, dt] = own;
   auto coefficients = [&](std::size_t a, std::size_t b) -> const PairCoefficients& {
     return coefficient_data[a * n_species + b];
   };
@@ -161,7 +168,8 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
 
   // --- sphere-sphere ---------------------------------------------------------------------
   // Solves the batch of pairs, updates their histories, applies rolling model R; side i adds
-  // to its element's own sums (in pair order), side j's share goes to the pair's slot.
+  // to its element's own sums (in pair order), side j's share to j's sum as second element
+  // (or, where other threads have some of j's pairs, to the pair's slot).
   PairLanes& pl = work.pairs;
   PairBatch& pb = pl.batch;
   double deepest = 0.0, deepest_radius = 1.0;  // overlap and radius of the largest ratio [m]
@@ -199,9 +207,16 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       element_force[i] += f;
       element_torque[i] += t_i;
       element_cdt[i] += roll.cdt_i;
-      pair_force[p] = f;
-      pair_torque_j[p] = t_j;
-      pair_cdt_j[p] = roll.cdt_j;
+      const std::uint32_t j = second[p];
+      if (second_direct[j]) {  // this thread has all of j's pairs as second: sum in pair order
+        second_force[j] -= f;
+        second_torque[j] += t_j;
+        second_cdt[j] += roll.cdt_j;
+      } else {  // the gather sums the slots in the same order
+        pair_force[p] = f;
+        pair_torque_j[p] = t_j;
+        pair_cdt_j[p] = roll.cdt_j;
+      }
       // The largest overlap over the smaller radius, compared by cross-multiplying.
       const double smaller = std::min(pb.ri[k], pb.rj[k]);
       if (pb.overlap[k] * deepest_radius > deepest * smaller) deepest = pb.overlap[k], deepest_radius = smaller;
@@ -214,7 +229,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
   std::fill(element_torque.begin() + e0, element_torque.begin() + e1, Vec3{});
   std::fill(element_cdt.begin() + e0, element_cdt.begin() + e1, 0.0);
   // Which pairs touch, without a branch on it: about a third of the pairs in the list do
-  // not, in no predictable order. A contact that ended has its history and slot zeroed.
+  // not, in no predictable order. A contact that ended has its history zeroed.
   pl.touching.resize(p1 - p0);
   std::size_t n_touching = 0;
   for (std::size_t p = p0; p < p1; ++p) {
@@ -223,11 +238,8 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     const std::uint8_t touch = norm2(x_el[j] - x_el[i]) < reach * reach ? 1 : 0;
     pl.touching[n_touching] = static_cast<std::uint32_t>(p);
     n_touching += touch;
-    if (active[p] > touch) [[unlikely]] {
+    if (active[p] > touch) [[unlikely]]
       std::fill_n(history + p * static_cast<std::size_t>(h), h, 0.0);
-      pair_force[p] = pair_torque_j[p] = Vec3{};
-      pair_cdt_j[p] = 0.0;
-    }
     active[p] = touch;
   }
   // The touching pairs into the batch, side i = the pair's first element.
@@ -506,6 +518,10 @@ void Simulation::prepare() {
   element_force_.resize(n_s);
   element_torque_.resize(n_s);
   element_cdt_.resize(n_s);
+  second_force_.resize(n_s);
+  second_torque_.resize(n_s);
+  second_cdt_.resize(n_s);
+  second_direct_.resize(n_s);
   element_moved2_.resize(n_s, 0.0);  // a build is due for new elements anyway (size change)
   particles_.update_sphere_positions();
 }
@@ -610,6 +626,36 @@ void Simulation::find_part_candidates() {
   parts_changed_ = false;
 }
 
+namespace {
+// The chunks [first, last) that thread `me` of a team of `team` handles: contiguous blocks
+// of nearly equal size, in order.
+std::pair<std::size_t, std::size_t> chunks_of(std::size_t n_chunks, int team, int me) {
+  const auto t = static_cast<std::size_t>(team), m = static_cast<std::size_t>(me);
+  return {n_chunks * m / t, n_chunks * (m + 1) / t};
+}
+}  // namespace
+
+void Simulation::mark_direct_seconds(int team) {
+  // An element's shares as second element may be summed by the contact loop itself when one
+  // thread computes all its pairs as second: that thread meets them in pair order.
+  const std::size_t n_s = particles_.spheres(), n_chunks = chunk_start_.size() - 1;
+  std::vector<int> thread_of(n_s, 0);
+  for (int t = 0; t < team; ++t) {
+    const auto [c0, c1] = chunks_of(n_chunks, team, t);
+    std::fill(thread_of.begin() + chunk_start_[c0], thread_of.begin() + chunk_start_[c1], t);
+  }
+  const auto first = neighbors_.firsts();
+  std::fill(second_direct_.begin(), second_direct_.end(), 1);  // (sized by prepare: views hold it)
+  for (std::size_t s = 0; s < n_s; ++s) {
+    const auto pairs = neighbors_.pairs_as_second(s);
+    for (const std::uint32_t p : pairs) {
+      if (thread_of[first[p]] != thread_of[first[pairs.front()]]) second_direct_[s] = 0;
+    }
+  }
+  direct_build_ = neighbors_.builds();
+  direct_team_ = team;
+}
+
 void Simulation::split_into_chunks() {
   // Runs of whole elements with about one batch of pairs and part candidates each: a fixed
   // split (the thread count plays no part), and each element's own sums stay in one chunk.
@@ -635,8 +681,7 @@ void Simulation::compute_forces(const Rolling&) {
   pair_cdt_j_.resize(n_pairs);
   if (neighbors_.builds() != active_build_) {
     // A new list: every pair counts as touching once, so that where it does not, its history
-    // and slot are zeroed; from then on only pairs whose contact ends write zeros, and the
-    // gather reads every pair without a (badly predicted) branch.
+    // is zeroed; from then on only pairs whose contact ends write zeros.
     pair_active_.assign(n_pairs, 1);
     active_build_ = neighbors_.builds();
   }
@@ -670,6 +715,10 @@ void Simulation::compute_forces(const Rolling&) {
                            part_reaction_,
                            pair_cdt_j_,
                            element_cdt_,
+                           second_direct_,
+                           second_force_,
+                           second_torque_,
+                           second_cdt_,
                            coefficients_.size() > 0 ? &coefficients_(0, 0) : nullptr,
                            coefficients_.size(),
                            ps.types().size(),
@@ -681,15 +730,21 @@ void Simulation::compute_forces(const Rolling&) {
   // --- contacts, per chunk of elements: their pairs (as first element), then their parts ---
   double max_ratio = 0.0;
   std::size_t touching = 0;
-  const auto n_chunks = static_cast<std::ptrdiff_t>(chunk_start_.size()) - 1;
+  const std::size_t n_chunks = chunk_start_.size() - 1;
 #pragma omp parallel reduction(max : max_ratio) reduction(+ : touching) if (static_cast <std::ptrdiff_t>(ps.spheres()) > \
                                                                                 parallel_threshold)
   {
+    int team = 1, me = 0;
+#ifdef BUSHEL_HAVE_OPENMP
+    team = omp_get_num_threads(), me = omp_get_thread_num();
+#endif
+    // Each thread takes a fixed block of chunks (chunks_of), which mark_direct_seconds knows.
+#pragma omp single
+    if (direct_build_ != neighbors_.builds() || direct_team_ != team) mark_direct_seconds(team);
     auto work = std::make_unique<Workspace>();
-#pragma omp for schedule(static)
-    for (std::ptrdiff_t c = 0; c < n_chunks; ++c) {
-      const std::uint32_t e0 = chunk_start_[static_cast<std::size_t>(c)];
-      const std::uint32_t e1 = chunk_start_[static_cast<std::size_t>(c) + 1];
+    const auto [c0, c1] = chunks_of(n_chunks, team, me);
+    for (std::size_t c = c0; c < c1; ++c) {
+      const std::uint32_t e0 = chunk_start_[c], e1 = chunk_start_[c + 1];
       const ChunkResult r =
           contact_chunk<Rolling>(views, e0, e1, neighbors_.begin_of(e0), neighbors_.begin_of(e1), *work);
       max_ratio = std::max(max_ratio, r.max_ratio);
@@ -699,6 +754,9 @@ void Simulation::compute_forces(const Rolling&) {
   sum_part_reactions();
 
   // --- gather onto bodies, in a fixed order -------------------------------------------------
+  // Per element: its own sums, then the sum of its shares as second element in pair order,
+  // which the contact loop kept (direct) or which is summed here from the pair slots in the
+  // same order; the accumulators are zeroed for the next step.
   const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
   const Vec3 g = settings_.gravity;
 #pragma omp parallel for schedule(static) if (nb > parallel_threshold)
@@ -710,11 +768,25 @@ void Simulation::compute_forces(const Rolling&) {
       f += element_force_[s];
       t += element_torque_[s];
       cdt += element_cdt_[s];
-      for (const std::uint32_t p : neighbors_.pairs_as_second(s)) {
-        f -= pair_force_[p];
-        t += pair_torque_j_[p];
-        cdt += pair_cdt_j_[p];
+      if (second_direct_[s]) {
+        f += second_force_[s];
+        t += second_torque_[s];
+        cdt += second_cdt_[s];
+        second_force_[s] = second_torque_[s] = Vec3{};
+        second_cdt_[s] = 0.0;
+        continue;
       }
+      Vec3 f_second, t_second;
+      double cdt_second = 0.0;
+      for (const std::uint32_t p : neighbors_.pairs_as_second(s)) {
+        if (!pair_active_[p]) continue;  // (as the contact loop: only pairs that touch)
+        f_second -= pair_force_[p];
+        t_second += pair_torque_j_[p];
+        cdt_second += pair_cdt_j_[p];
+      }
+      f += f_second;
+      t += t_second;
+      cdt += cdt_second;
     }
     ps.force[b] = f;
     ps.torque[b] = t;

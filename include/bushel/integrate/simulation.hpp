@@ -8,7 +8,8 @@
 //      of each pair's second element goes to the pair's slot. The contact law runs over
 //      batches of contacts at once (contact_batch.hpp).
 //   3. gather onto bodies in a fixed order (thread-count independent): the elements' own
-//      sums plus the slots of pairs in which they are second
+//      sums plus their shares as second element, summed in pair order (by the contact loop
+//      where one thread has all of an element's pairs as second, else here from pair slots)
 //   4. integrate (symplectic Euler or velocity Verlet; quaternion rigid rotation)
 //   5. move the geometry parts (motion.hpp), servos acting on the forces of step 2
 
@@ -91,6 +92,7 @@ class Simulation {
   void move_parts(double t, double dt);
   void update_servos();
   void split_into_chunks();
+  void mark_direct_seconds(int team);
   void spatial_sort();
   template <class Rolling>
   void compute_forces(const Rolling&);
@@ -109,10 +111,11 @@ class Simulation {
   std::size_t prepared_types_ = 0, prepared_parts_ = 0;
   bool forces_valid_ = false;
   std::size_t forces_parts_ = 0;  // part count the last forces were computed with
-  int rebuild_due_ = -1;  // from the last drift: 1 yes, 0 no, -1 unknown (check every element)
+  int rebuild_due_ = -1;          // from the last drift: 1 yes, 0 no, -1 unknown (check every element)
   bool neighbors_configured_ = false;
 
-  // per pair: the reaction on the second element from the last force computation
+  // per pair: the reaction on the second element from the last force computation, written
+  // only for touching pairs whose second element is not summed directly (second_direct_)
   std::vector<Vec3> pair_force_;           // force on the first element (the second gets minus this) [N]
   std::vector<Vec3> pair_torque_j_;        // torque on the second element's body [N m]
   std::vector<double> pair_cdt_j_;         // CDT magnitude on the second element's body [N m]
@@ -121,6 +124,14 @@ class Simulation {
   // per element: its own sums over its pairs (as first element) and its parts
   std::vector<Vec3> element_force_, element_torque_;
   std::vector<double> element_cdt_;
+  // per element: the sum of its shares as second element, in pair order, kept by the contact
+  // loop where one thread computes all of them (second_direct_), else summed from the pair
+  // slots by the gather; zero between steps
+  std::vector<Vec3> second_force_, second_torque_;
+  std::vector<double> second_cdt_;
+  std::vector<std::uint8_t> second_direct_;
+  std::size_t direct_build_ = 0;  // neighbour-list build and team size second_direct_ is for
+  int direct_team_ = 0;
   std::vector<std::uint32_t> chunk_start_;  // elements split into runs of about one batch of contacts
   // sphere-part candidates (spheres within the skin of a part's faces at the last build),
   // grouped by sphere (CSR), each with its nearby faces and max_part_touches history slots
