@@ -13,6 +13,7 @@ void add_particle_command(CLI::App& app);
 void add_kernel_command(CLI::App& app);
 void add_verify_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
+void add_bin_command(CLI::App& app);
 /// `demo funnel`, registered on the `demo` sub-command.
 void add_demo_funnel_command(CLI::App& demo);
 
