@@ -1,0 +1,133 @@
+// Design-of-experiments statistics: the distributions against tabulated critical values, and
+// the study's screening and response-surface designs (data/pb_*, data/rsm_*) against what the
+// study found and against an independent computation (an orthogonal design's coefficients
+// are X^T y / N).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "bushel/core/input_error.hpp"
+#include "bushel/doe/distributions.hpp"
+#include "bushel/doe/regression.hpp"
+#include "bushel/io/csv.hpp"
+
+namespace bushel::doe {
+namespace {
+
+struct Table {
+  Eigen::MatrixXd coded;
+  Eigen::VectorXd y;
+};
+
+// Columns `factors` coded from their own minimum and maximum (the design's low and high).
+Table read(const std::string& file, const std::vector<std::string>& factors, const std::string& response) {
+  const io::CsvTable t = io::CsvTable::read(std::string(BUSHEL_DATA_DIR) + "/" + file);
+  const auto n = static_cast<Eigen::Index>(t.rows().size());
+  Table out{Eigen::MatrixXd(n, static_cast<Eigen::Index>(factors.size())), Eigen::VectorXd(n)};
+  for (std::size_t f = 0; f < factors.size(); ++f) {
+    const std::size_t c = t.column(factors[f]);
+    Eigen::VectorXd raw(n);
+    for (Eigen::Index r = 0; r < n; ++r) raw(r) = t.number(t.rows()[static_cast<std::size_t>(r)], c);
+    const double lo = raw.minCoeff(), hi = raw.maxCoeff();
+    out.coded.col(static_cast<Eigen::Index>(f)) = (raw.array() - 0.5 * (lo + hi)) / (0.5 * (hi - lo));
+  }
+  const std::size_t c = t.column(response);
+  for (Eigen::Index r = 0; r < n; ++r) out.y(r) = t.number(t.rows()[static_cast<std::size_t>(r)], c);
+  return out;
+}
+
+TEST(Distributions, TabulatedCriticalValues) {
+  EXPECT_NEAR(t_two_sided_p(2.228, 10), 0.05, 5e-4);  // t(0.025, 10) = 2.228
+  EXPECT_NEAR(t_critical(0.05, 5), 2.5706, 1e-4);     // t(0.025, 5)
+  EXPECT_NEAR(t_critical(0.10, 5), 2.0150, 1e-4);     // t(0.05, 5)
+  EXPECT_NEAR(f_upper_p(4.10, 2, 10), 0.05, 1e-3);    // F(0.05; 2, 10) = 4.10
+  EXPECT_NEAR(f_upper_p(3.33, 5, 10), 0.05, 1e-3);    // F(0.05; 5, 10) = 3.33
+  EXPECT_NEAR(incomplete_beta(3.5, 3.5, 0.5), 0.5, 1e-14);
+  EXPECT_NEAR(t_two_sided_p(0.0, 7), 1.0, 1e-14);
+}
+
+TEST(Screening, PlackettBurmanRanksTheStudysFourEffects) {
+  const std::vector<std::string> f{"fr_ww", "fr_ws", "fs_ww", "fs_ws", "e_ww", "e_ws"};
+  const Table t = read("pb_5sphere_large_table3_9.csv", f, "bulk_density");
+  const Fit fit = doe::fit(t.coded, t.y, f, ModelKind::main, 0.1);
+  // The study kept fr_ww, fs_ww, e_ww and fs_ws (alpha 0.1): friction lowers the bulk
+  // density, restitution raises it.
+  std::set<std::string> significant;
+  for (const Coefficient& c : fit.coefficients) {
+    if (c.significant) significant.insert(c.term);
+  }
+  EXPECT_EQ(significant, (std::set<std::string>{"fr_ww", "fs_ww", "fs_ws", "e_ww"}));
+  auto coef = [&](const std::string& name) {
+    for (const Coefficient& c : fit.coefficients) {
+      if (c.term == name) return c;
+    }
+    ADD_FAILURE() << name;
+    return Coefficient{};
+  };
+  EXPECT_LT(coef("fr_ww").effect, 0.0);
+  EXPECT_LT(coef("fs_ww").effect, 0.0);
+  EXPECT_LT(coef("fs_ws").effect, 0.0);
+  EXPECT_GT(coef("e_ww").effect, 0.0);
+  // Independent: the design is orthogonal, so b = X^T y / N and se = s / sqrt(N).
+  const double n = static_cast<double>(t.y.size());
+  EXPECT_NEAR(fit.coefficients[0].coef, t.y.mean(), 1e-10);
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const Coefficient& c = fit.coefficients[i + 1];
+    EXPECT_NEAR(c.coef, t.coded.col(static_cast<Eigen::Index>(i)).dot(t.y) / n, 1e-10) << c.term;
+    EXPECT_NEAR(c.se, fit.s / std::sqrt(n), 1e-10) << c.term;
+  }
+  EXPECT_NEAR(coef("fs_ww").coef, -29.733, 1e-3);  // (numpy normal equations, same data)
+  EXPECT_NEAR(coef("e_ww").t, 7.041, 1e-3);
+  EXPECT_EQ(fit.error_df, 5);
+}
+
+TEST(ResponseSurface, QuadraticFitAndTheStudysCalibratedPoint) {
+  const std::vector<std::string> f{"fs_ww", "fr_ww", "e_ww", "fs_ws"};
+  const Table t = read("rsm_5sphere_large_table3_10.csv", f, "bulk_density");
+  const Fit fit = doe::fit(t.coded, t.y, f, ModelKind::quadratic, 0.1);
+  EXPECT_GT(fit.r2, 0.998);
+  EXPECT_NEAR(fit.r2, 0.99920, 1e-4);  // numpy: 0.9991957
+  EXPECT_NEAR(fit.s, 0.8484, 1e-3);
+  EXPECT_GT(fit.r2_predicted, 0.98);
+  // Curvature: the squares matter.
+  bool square_group = false;
+  for (const AnovaRow& a : fit.anova) {
+    if (a.source == "  Square") {
+      square_group = true;
+      EXPECT_LT(a.p, 0.1);
+    }
+  }
+  EXPECT_TRUE(square_group);
+  // The study's calibrated set (fs_ww 0.27, fr_ww 0.01, e_ww 0.5, fs_ws 0.17) lies on the
+  // solution set of 826.1 kg/m3 within the model's prediction interval.
+  auto code = [](double v, double lo, double hi) { return (v - 0.5 * (lo + hi)) / (0.5 * (hi - lo)); };
+  Eigen::VectorXd study(4);
+  study << code(0.27, 0.17, 0.40), code(0.01, 0.01, 0.10), code(0.5, 0.2, 0.5), code(0.17, 0.17, 0.40);
+  EXPECT_LT(std::abs(fit.predict(study) - 826.1), fit.prediction_half_width(study, 0.05));
+  const Eigen::VectorXd x = solve_for_target(fit, 826.1);
+  EXPECT_NEAR(fit.predict(x), 826.1, 1e-6);
+  EXPECT_LE(x.cwiseAbs().maxCoeff(), 1.0 + 1e-12);
+  EXPECT_THROW(solve_for_target(fit, 1000.0), InputError);
+}
+
+TEST(Regression, CurvatureFromCentrePointsAndLackOfFit) {
+  // A 2^2 factorial with 3 centre points on y = 10 + 2 a - b + 3 a^2 (curved), plus noise-free
+  // replicates: the centre-point term finds the curvature; pure error is 0 except at the centre.
+  Eigen::MatrixXd x(7, 2);
+  x << -1, -1, 1, -1, -1, 1, 1, 1, 0, 0, 0, 0, 0, 0;
+  Eigen::VectorXd y(7);
+  for (int r = 0; r < 7; ++r) y(r) = 10 + 2 * x(r, 0) - x(r, 1) + 3 * x(r, 0) * x(r, 0);
+  y(4) += 0.1, y(5) -= 0.1;  // spread at the centre: the pure error
+  const Fit fit = doe::fit(x, y, {"a", "b"}, ModelKind::main, 0.05);
+  ASSERT_EQ(fit.terms.back().name, "Ct Pt");
+  EXPECT_NEAR(fit.coefficients.back().coef, -3.0, 1e-9);  // centre mean - corner-fitted mean
+  EXPECT_LT(fit.coefficients.back().p, 0.05);
+  EXPECT_THROW(doe::fit(x.topRows(3), y.head(3), {"a", "b"}, ModelKind::interactions), InputError);
+}
+
+}  // namespace
+}  // namespace bushel::doe
