@@ -218,21 +218,31 @@ Fit fit(const Eigen::MatrixXd& coded, const Eigen::VectorXd& y, const std::vecto
   return out;
 }
 
-Eigen::VectorXd solve_for_target(const Fit& f, double target, double limit) {
+Eigen::VectorXd solve_for_target(const Fit& f, double target, double limit, Eigen::VectorXd start,
+                                 const std::vector<bool>& fixed) {
   const auto k = static_cast<Eigen::Index>(f.factors.size());
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(k);
+  Eigen::VectorXd x = start.size() == k ? std::move(start) : Eigen::VectorXd::Zero(k);
+  auto free_only = [&](Eigen::VectorXd g) {
+    for (Eigen::Index i = 0; i < k && static_cast<std::size_t>(i) < fixed.size(); ++i) {
+      if (fixed[static_cast<std::size_t>(i)]) g(i) = 0.0;
+    }
+    return g;
+  };
   // Projected Gauss-Newton on r(x) = predict - target: the least-norm step along the
   // gradient, clipped to the region; a step that does not reduce |r| is halved.
   for (int it = 0; it < 500; ++it) {
     const double r = f.predict(x) - target;
     if (std::abs(r) < 1e-10 * std::max(1.0, std::abs(target))) return x;
-    const Eigen::VectorXd g = f.gradient(x);
+    const Eigen::VectorXd g = free_only(f.gradient(x));
     const double g2 = g.squaredNorm();
     if (g2 == 0.0) break;
     double step = 1.0;
     Eigen::VectorXd next = x;
     for (int h = 0; h < 40; ++h, step *= 0.5) {
       next = (x - step * r / g2 * g).cwiseMax(-limit).cwiseMin(limit);
+      for (Eigen::Index i = 0; i < k && static_cast<std::size_t>(i) < fixed.size(); ++i) {
+        if (fixed[static_cast<std::size_t>(i)]) next(i) = x(i);  // (a fixed factor may lie outside)
+      }
       if (std::abs(f.predict(next) - target) < std::abs(r)) break;
     }
     if ((next - x).norm() < 1e-14) break;

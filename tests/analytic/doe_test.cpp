@@ -112,6 +112,13 @@ TEST(ResponseSurface, QuadraticFitAndTheStudysCalibratedPoint) {
   EXPECT_NEAR(fit.predict(x), 826.1, 1e-6);
   EXPECT_LE(x.cwiseAbs().maxCoeff(), 1.0 + 1e-12);
   EXPECT_THROW(solve_for_target(fit, 1000.0), InputError);
+  // As the study: fr_ww, e_ww and fs_ws held at their calibrated values, fs_ww solved for.
+  Eigen::VectorXd held = study;
+  held(0) = 0.0;
+  const Eigen::VectorXd fs = solve_for_target(fit, 826.1, 1.0, held, {false, true, true, true});
+  EXPECT_NEAR(fit.predict(fs), 826.1, 1e-6);
+  EXPECT_EQ(fs.tail(3), study.tail(3));
+  EXPECT_NEAR(0.285 + fs(0) * 0.115, 0.27, 0.01);  // fs_ww in physical units: the study's 0.27
 }
 
 TEST(Regression, CurvatureFromCentrePointsAndLackOfFit) {

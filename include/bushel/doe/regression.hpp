@@ -73,9 +73,11 @@ Fit fit(const Eigen::MatrixXd& coded, const Eigen::VectorXd& y, const std::vecto
         ModelKind model, double alpha = 0.1);
 
 /// Factor settings (coded) within [-limit, limit] on every factor at which the fitted
-/// response equals `target`, found by descending (predict - target)^2 from the centre; the
-/// point of the solution set reached from the centre. Throws InputError if the target is
-/// out of the model's reach within the region (reports the closest value).
-Eigen::VectorXd solve_for_target(const Fit& fit, double target, double limit = 1.0);
+/// response equals `target`, found by descending (predict - target)^2 from `start` (the
+/// centre if empty); factors with `fixed[i]` true keep their value in `start`. The point of
+/// the solution set reached from there. Throws InputError if the target is out of the
+/// model's reach within the region (reports the closest value).
+Eigen::VectorXd solve_for_target(const Fit& fit, double target, double limit = 1.0, Eigen::VectorXd start = {},
+                                 const std::vector<bool>& fixed = {});
 
 }  // namespace bushel::doe

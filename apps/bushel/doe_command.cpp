@@ -1,0 +1,288 @@
+// `bushel doe analyze|optimize`: the statistics of a designed experiment from any CSV with
+// factor and response columns (doe/regression.hpp), as tables, JSON and PNG plots.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "bushel/core/input_error.hpp"
+#include "bushel/doe/distributions.hpp"
+#include "bushel/doe/factor_table.hpp"
+#include "bushel/doe/regression.hpp"
+#include "bushel/io/atomic_file.hpp"
+#include "bushel/io/python_plot.hpp"
+#include "bushel/units/units.hpp"
+#include "commands.hpp"
+
+namespace bushel::cli {
+
+namespace {
+
+struct DoeOptions {
+  std::string file, factors, response, model = "main", levels, plots, fix;
+  double alpha = 0.1;
+  double target = 0.0;
+  bool json = false;
+};
+
+std::vector<std::string> split(const std::string& text, char sep) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, sep);) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+// "name=low:high,..." -> levels.
+std::map<std::string, std::pair<double, double>> parse_levels(const std::string& text) {
+  std::map<std::string, std::pair<double, double>> out;
+  for (const std::string& item : split(text, ',')) {
+    const auto eq = item.find('='), colon = item.find(':');
+    if (eq == std::string::npos || colon == std::string::npos || colon < eq) {
+      throw InputError(fmt::format("expected name=low:high, got '{}'", item)).with_key("--levels");
+    }
+    try {
+      out[item.substr(0, eq)] = {units::parse_number(item.substr(eq + 1, colon - eq - 1)),
+                                 units::parse_number(item.substr(colon + 1))};
+    } catch (const InputError& e) {
+      throw e.with_key("--levels");
+    }
+  }
+  return out;
+}
+
+struct Analysis {
+  doe::FactorTable table;
+  doe::Fit fit;
+};
+
+Analysis analyze(const DoeOptions& o) {
+  const std::vector<std::string> factors = split(o.factors, ',');
+  if (factors.empty()) throw InputError("expected factor columns, e.g. fr_ww,fs_ww").with_key("--factors");
+  if (!(o.alpha > 0.0 && o.alpha < 1.0)) throw InputError("expected alpha in (0, 1)").with_key("--alpha");
+  const doe::ModelKind kind = [&] {
+    try {
+      return doe::parse_model(o.model);
+    } catch (const InputError& e) {
+      throw e.with_key("--model");
+    }
+  }();
+  doe::FactorTable table = doe::read_factor_table(o.file, factors, o.response, parse_levels(o.levels));
+  doe::Fit fit = doe::fit(table.coded, table.response, factors, kind, o.alpha);
+  return {std::move(table), std::move(fit)};
+}
+
+nlohmann::ordered_json to_json(const Analysis& a, const DoeOptions& o) {
+  auto number = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+  nlohmann::ordered_json j;
+  j["file"] = o.file;
+  j["response"] = o.response;
+  j["model"] = o.model;
+  j["alpha"] = o.alpha;
+  j["runs"] = a.fit.runs;
+  j["factors"] = nlohmann::ordered_json::array();
+  for (const doe::Factor& f : a.table.factors)
+    j["factors"].push_back({{"name", f.name}, {"low", f.low}, {"high", f.high}});
+  j["terms"] = nlohmann::ordered_json::array();
+  for (const doe::Coefficient& c : a.fit.coefficients) {
+    j["terms"].push_back({{"term", c.term},
+                          {"coefficient", c.coef},
+                          {"effect", number(c.effect)},
+                          {"se", c.se},
+                          {"t", c.t},
+                          {"p", c.p},
+                          {"significant", c.significant}});
+  }
+  j["anova"] = nlohmann::ordered_json::array();
+  for (const doe::AnovaRow& r : a.fit.anova) {
+    std::string source = r.source;
+    source.erase(0, source.find_first_not_of(' '));
+    j["anova"].push_back(
+        {{"source", source}, {"df", r.df}, {"ss", r.ss}, {"ms", number(r.ms)}, {"f", number(r.f)}, {"p", number(r.p)}});
+  }
+  j["s"] = a.fit.s;
+  j["r2"] = a.fit.r2;
+  j["r2_adjusted"] = a.fit.r2_adjusted;
+  j["r2_predicted"] = a.fit.r2_predicted;
+  j["t_critical"] = doe::t_critical(o.alpha, a.fit.error_df);
+  j["observed"] = std::vector<double>(a.table.response.data(), a.table.response.data() + a.table.response.size());
+  std::vector<double> fitted;
+  for (Eigen::Index r = 0; r < a.table.coded.rows(); ++r)
+    fitted.push_back(a.fit.predict(a.table.coded.row(r).transpose()));
+  j["fitted"] = fitted;
+  return j;
+}
+
+// Pareto chart of standardized effects, fitted vs observed, fitted main effects, and for
+// models with squares the contours over the two strongest factors (others at their centre).
+constexpr const char* plot_script = R"py(
+import json, os, sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+a = json.load(open(sys.argv[1])); out = sys.argv[2]
+terms = [t for t in a["terms"] if t["term"] not in ("Constant",)]
+terms.sort(key=lambda t: abs(t["t"]))
+fig, ax = plt.subplots(figsize=(7, 0.4 * len(terms) + 1.5))
+ax.barh([t["term"] for t in terms], [abs(t["t"]) for t in terms],
+        color=["tab:red" if t["significant"] else "tab:gray" for t in terms])
+ax.axvline(a["t_critical"], color="k", ls="--", lw=1)
+ax.set_xlabel("standardized effect |t| (dashed: t critical, alpha %g)" % a["alpha"])
+ax.set_title("Pareto chart: %s" % a["response"]); fig.tight_layout(); fig.savefig(os.path.join(out, "pareto.png"), dpi=120)
+fig, ax = plt.subplots(figsize=(5, 5))
+ax.scatter(a["fitted"], a["observed"]); lo = min(a["fitted"] + a["observed"]); hi = max(a["fitted"] + a["observed"])
+ax.plot([lo, hi], [lo, hi], "k--", lw=1); ax.set_xlabel("fitted"); ax.set_ylabel("observed")
+ax.set_title("%s: R2 %.4f" % (a["response"], a["r2"])); fig.tight_layout(); fig.savefig(os.path.join(out, "fitted_vs_observed.png"), dpi=120)
+coef = {t["term"]: t["coefficient"] for t in a["terms"]}
+names = [f["name"] for f in a["factors"]]
+def predict(x):
+    y = coef.get("Constant", 0.0)
+    for i, n in enumerate(names):
+        y += coef.get(n, 0.0) * x[i] + coef.get(n + "*" + n, 0.0) * x[i] ** 2
+        for j in range(i + 1, len(names)):
+            y += coef.get(n + "*" + names[j], 0.0) * x[i] * x[j]
+    return y
+grid = [-1 + 2 * k / 40 for k in range(41)]
+fig, axes = plt.subplots(1, len(names), sharey=True, figsize=(2.5 * len(names), 3))
+axes = axes if len(names) > 1 else [axes]
+for i, (ax, f) in enumerate(zip(axes, a["factors"])):
+    xs = [f["low"] + (c + 1) / 2 * (f["high"] - f["low"]) for c in grid]
+    ax.plot(xs, [predict([c if k == i else 0 for k in range(len(names))]) for c in grid])
+    ax.set_xlabel(f["name"]); ax.grid(alpha=0.3)
+axes[0].set_ylabel(a["response"]); fig.suptitle("fitted main effects (others at the centre)")
+fig.tight_layout(); fig.savefig(os.path.join(out, "main_effects.png"), dpi=120)
+if any("*" in t["term"] and t["term"].split("*")[0] == t["term"].split("*")[1] for t in a["terms"]) and len(names) > 1:
+    strongest = sorted(range(len(names)), key=lambda i: -abs(coef.get(names[i], 0.0)))[:2]
+    i, j = strongest; fi, fj = a["factors"][i], a["factors"][j]
+    z = [[predict([grid[c] if k == i else grid[r] if k == j else 0 for k in range(len(names))]) for c in range(41)] for r in range(41)]
+    xs = [fi["low"] + (c + 1) / 2 * (fi["high"] - fi["low"]) for c in grid]
+    ys = [fj["low"] + (c + 1) / 2 * (fj["high"] - fj["low"]) for c in grid]
+    fig, ax = plt.subplots(figsize=(6, 5)); cs = ax.contourf(xs, ys, z, 15); fig.colorbar(cs, label=a["response"])
+    ax.set_xlabel(fi["name"]); ax.set_ylabel(fj["name"]); ax.set_title("response surface (others at the centre)")
+    fig.tight_layout(); fig.savefig(os.path.join(out, "contours.png"), dpi=120)
+)py";
+
+void print_analysis(const Analysis& a, const DoeOptions& o) {
+  const doe::Fit& f = a.fit;
+  fmt::print("{}: {} runs, model {}, response {}\n\n", o.file, f.runs, o.model, o.response);
+  fmt::print("Coded coefficients (alpha {}; * significant)\n", o.alpha);
+  fmt::print("{:<24} {:>10} {:>10} {:>9} {:>8} {:>8}\n", "Term", "Effect", "Coef", "SE Coef", "T", "P");
+  for (const doe::Coefficient& c : f.coefficients) {
+    fmt::print("{:<24} {:>10} {:>10.4f} {:>9.4f} {:>8.2f} {:>8.4f} {}\n", c.term,
+               std::isfinite(c.effect) ? fmt::format("{:.4f}", c.effect) : "", c.coef, c.se, c.t, c.p,
+               c.significant ? "*" : "");
+  }
+  fmt::print("\nS {:.5g}   R-sq {:.2f}%   R-sq(adj) {:.2f}%   R-sq(pred) {:.2f}%\n\n", f.s, 100 * f.r2,
+             100 * f.r2_adjusted, 100 * f.r2_predicted);
+  fmt::print("Analysis of variance\n{:<22} {:>4} {:>12} {:>12} {:>9} {:>8}\n", "Source", "DF", "Adj SS", "Adj MS", "F",
+             "P");
+  for (const doe::AnovaRow& r : f.anova) {
+    auto cell = [](double v, const char* format) {
+      return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : "";
+    };
+    fmt::print("{:<22} {:>4} {:>12.4f} {:>12} {:>9} {:>8}\n", r.source, r.df, r.ss, cell(r.ms, "{:.4f}"),
+               cell(r.f, "{:.2f}"), cell(r.p, "{:.4f}"));
+  }
+}
+
+void write_plots(const Analysis& a, const DoeOptions& o) {
+  if (o.plots.empty()) return;
+  std::filesystem::create_directories(o.plots);
+  const std::string json_path = (std::filesystem::path(o.plots) / "analysis.json").string();
+  io::write_file_atomically(json_path, to_json(a, o).dump(2));
+  io::run_python(plot_script, {json_path, o.plots});
+  if (!o.json)
+    fmt::print("\nplots                  {}/ (pareto, fitted_vs_observed, main_effects, contours)\n", o.plots);
+}
+
+void run_analyze(const DoeOptions& o) {
+  const Analysis a = analyze(o);
+  if (o.json) {
+    fmt::print("{}\n", to_json(a, o).dump(2));
+  } else {
+    print_analysis(a, o);
+  }
+  write_plots(a, o);
+}
+
+void run_optimize(const DoeOptions& o) {
+  const Analysis a = analyze(o);
+  // Factors held at given values (physical units), the others free.
+  const auto k = static_cast<Eigen::Index>(a.table.factors.size());
+  Eigen::VectorXd start = Eigen::VectorXd::Zero(k);
+  std::vector<bool> fixed(a.table.factors.size(), false);
+  for (const std::string& item : split(o.fix, ',')) {
+    const auto eq = item.find('=');
+    const std::string name = item.substr(0, eq);
+    const auto it = std::find_if(a.table.factors.begin(), a.table.factors.end(),
+                                 [&](const doe::Factor& f) { return f.name == name; });
+    if (eq == std::string::npos || it == a.table.factors.end()) {
+      throw InputError(fmt::format("expected factor=value with one of the --factors, got '{}'", item))
+          .with_key("--fix");
+    }
+    const auto i = static_cast<std::size_t>(it - a.table.factors.begin());
+    try {
+      start(static_cast<Eigen::Index>(i)) = it->code(units::parse_number(item.substr(eq + 1)));
+    } catch (const InputError& e) {
+      throw e.with_key("--fix");
+    }
+    fixed[i] = true;
+  }
+  const Eigen::VectorXd x = doe::solve_for_target(a.fit, o.target, 1.0, start, fixed);
+  const double predicted = a.fit.predict(x), half = a.fit.prediction_half_width(x, 0.05);
+  if (o.json) {
+    nlohmann::ordered_json j;
+    j["target"] = o.target;
+    j["settings"] = nlohmann::ordered_json::object();
+    for (std::size_t i = 0; i < a.table.factors.size(); ++i) {
+      j["settings"][a.table.factors[i].name] = a.table.factors[i].decode(x(static_cast<Eigen::Index>(i)));
+    }
+    j["predicted"] = predicted;
+    j["prediction_interval_95"] = {predicted - half, predicted + half};
+    fmt::print("{}\n", j.dump(2));
+    return;
+  }
+  fmt::print("settings that give {} = {} (the point of the solution set reached from the centre)\n", o.response,
+             o.target);
+  for (std::size_t i = 0; i < a.table.factors.size(); ++i) {
+    const doe::Factor& f = a.table.factors[i];
+    fmt::print("  {:<16} {:.5g}   (coded {:+.3f})\n", f.name, f.decode(x(static_cast<Eigen::Index>(i))),
+               x(static_cast<Eigen::Index>(i)));
+  }
+  fmt::print("predicted {:.5g}, 95% prediction interval {:.5g} to {:.5g}\n", predicted, predicted - half,
+             predicted + half);
+}
+
+void add_common(CLI::App* cmd, DoeOptions& o) {
+  cmd->add_option("file", o.file, "CSV with factor and response columns")->required();
+  cmd->add_option("--factors", o.factors, "Factor columns, comma-separated")->required();
+  cmd->add_option("--response", o.response, "Response column")->required();
+  cmd->add_option("--model", o.model, "main, interactions or quadratic")->capture_default_str();
+  cmd->add_option("--alpha", o.alpha, "Significance level")->capture_default_str();
+  cmd->add_option("--levels", o.levels, "Low and high levels, name=low:high,... (default: each column's range)");
+  cmd->add_flag("--json", o.json, "Print JSON");
+}
+
+}  // namespace
+
+void add_doe_command(CLI::App& app) {
+  auto o = std::make_shared<DoeOptions>();
+  auto* doe = app.add_subcommand("doe", "Designed experiments: analysis and optimisation of responses");
+  doe->require_subcommand(1);
+  auto* analyze_cmd = doe->add_subcommand("analyze", "Fit a model and report coefficients, tests and ANOVA");
+  add_common(analyze_cmd, *o);
+  analyze_cmd->add_option("--plots", o->plots, "Write PNG plots (Pareto, fitted, main effects, contours) here");
+  analyze_cmd->callback([o] { run_analyze(*o); });
+  auto* optimize_cmd = doe->add_subcommand("optimize", "Factor settings at which the fitted response hits a target");
+  add_common(optimize_cmd, *o);
+  optimize_cmd->add_option("--target", o->target, "Target response")->required();
+  optimize_cmd->add_option("--fix", o->fix, "Factors held at a value, name=value,... (physical units)");
+  optimize_cmd->callback([o] { run_optimize(*o); });
+}
+
+}  // namespace bushel::cli

@@ -1,0 +1,36 @@
+#pragma once
+// A table of runs (CSV: factor columns and response columns) read for analysis, with each
+// factor coded to -1 at its low and +1 at its high level.
+
+#include <Eigen/Dense>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bushel::doe {
+
+/// A factor and its two levels in physical units.
+struct Factor {
+  std::string name;
+  double low = -1.0, high = 1.0;
+  double code(double value) const { return (value - 0.5 * (low + high)) / (0.5 * (high - low)); }
+  double decode(double coded) const { return 0.5 * (low + high) + coded * 0.5 * (high - low); }
+};
+
+struct FactorTable {
+  std::vector<Factor> factors;
+  Eigen::MatrixXd coded;     ///< runs x factors
+  Eigen::VectorXd response;  ///< one per run
+  std::vector<std::string> names() const;
+};
+
+/// Reads `path`; `factors` name columns, `response` a column. A factor's levels are those in
+/// `levels` (name -> low, high) or else its smallest and largest value in the table. Throws
+/// InputError naming the file, line and column for a missing column, a cell that is not a
+/// number, or a factor that does not vary.
+FactorTable read_factor_table(const std::string& path, const std::vector<std::string>& factors,
+                              const std::string& response,
+                              const std::map<std::string, std::pair<double, double>>& levels = {});
+
+}  // namespace bushel::doe

@@ -1,0 +1,48 @@
+#include "bushel/doe/factor_table.hpp"
+
+#include <fmt/format.h>
+
+#include "bushel/core/input_error.hpp"
+#include "bushel/io/csv.hpp"
+
+namespace bushel::doe {
+
+std::vector<std::string> FactorTable::names() const {
+  std::vector<std::string> n;
+  for (const Factor& f : factors) n.push_back(f.name);
+  return n;
+}
+
+FactorTable read_factor_table(const std::string& path, const std::vector<std::string>& factors,
+                              const std::string& response,
+                              const std::map<std::string, std::pair<double, double>>& levels) {
+  const io::CsvTable t = io::CsvTable::read(path);
+  const auto n = static_cast<Eigen::Index>(t.rows().size());
+  if (n == 0) throw InputError("expected rows of runs").at(path);
+  FactorTable out;
+  out.coded.resize(n, static_cast<Eigen::Index>(factors.size()));
+  out.response.resize(n);
+  auto column_values = [&](const std::string& name) {
+    const std::size_t c = t.column(name);
+    Eigen::VectorXd v(n);
+    for (Eigen::Index r = 0; r < n; ++r) v(r) = t.number(t.rows()[static_cast<std::size_t>(r)], c);
+    return v;
+  };
+  for (std::size_t f = 0; f < factors.size(); ++f) {
+    const Eigen::VectorXd raw = column_values(factors[f]);
+    Factor factor{factors[f], raw.minCoeff(), raw.maxCoeff()};
+    if (const auto it = levels.find(factors[f]); it != levels.end())
+      factor.low = it->second.first, factor.high = it->second.second;
+    if (!(factor.high != factor.low)) {
+      throw InputError(fmt::format("expected two levels of factor {}, found only {}", factors[f], factor.low))
+          .at(path)
+          .with_key(factors[f]);
+    }
+    for (Eigen::Index r = 0; r < n; ++r) out.coded(r, static_cast<Eigen::Index>(f)) = factor.code(raw(r));
+    out.factors.push_back(factor);
+  }
+  out.response = column_values(response);
+  return out;
+}
+
+}  // namespace bushel::doe
