@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "bushel/core/did_you_mean.hpp"
 #include "bushel/core/input_error.hpp"
+#include "bushel/doe/design.hpp"
 #include "bushel/doe/distributions.hpp"
 #include "bushel/doe/factor_table.hpp"
 #include "bushel/doe/regression.hpp"
@@ -24,6 +27,11 @@ namespace {
 
 struct DoeOptions {
   std::string file, factors, response, model = "main", levels, plots, fix;
+  // design
+  std::string kind, ccd = "face", generators, out;
+  int runs = 0, centre = -1, fraction = 0, blocks = 1;
+  std::uint64_t seed = 1;
+  bool no_randomize = false;
   double alpha = 0.1;
   double target = 0.0;
   bool json = false;
@@ -258,6 +266,79 @@ void run_optimize(const DoeOptions& o) {
              predicted + half);
 }
 
+// Minitab's point types: 1 corner, 0 centre, -1 axial, 2 edge (Box-Behnken).
+int point_type(const doe::Design& d, Eigen::Index r) {
+  if (d.centre[static_cast<std::size_t>(r)]) return 0;
+  int nonzero = 0;
+  for (Eigen::Index c = 0; c < d.coded.cols(); ++c) nonzero += d.coded(r, c) != 0.0 ? 1 : 0;
+  if (d.kind == "ccd" && nonzero == 1) return -1;
+  if (d.kind == "box-behnken") return 2;
+  return 1;
+}
+
+void run_design(const DoeOptions& o) {
+  const auto levels = parse_levels(o.factors);
+  // parse_levels sorts by name; keep the order given.
+  std::vector<doe::Factor> factors;
+  for (const std::string& item : split(o.factors, ',')) {
+    const std::string name = item.substr(0, item.find('='));
+    factors.push_back({name, levels.at(name).first, levels.at(name).second});
+  }
+  const int k = static_cast<int>(factors.size());
+  auto keyed = [](const InputError& e) {
+    static const std::pair<const char*, const char*> names[] = {
+        {"runs", "--runs"},     {"center", "--center"},  {"fraction", "--fraction"}, {"generators", "--generators"},
+        {"blocks", "--blocks"}, {"factors", "--factors"}};
+    for (const auto& [field, option] : names) {
+      if (e.key() == field) return InputError(e.problem()).with_key(option);
+    }
+    return e;
+  };
+  doe::Design d;
+  try {
+    if (o.kind == "pb") {
+      d = doe::plackett_burman(k, o.runs == 0 ? 12 : o.runs);
+    } else if (o.kind == "factorial") {
+      d = doe::factorial(k, o.fraction, std::max(o.centre, 0), split(o.generators, ','));
+    } else if (o.kind == "ccd") {
+      d = doe::central_composite(k, doe::parse_ccd_type(o.ccd), o.centre < 0 ? 6 : o.centre, o.blocks);
+    } else if (o.kind == "bb") {
+      d = doe::box_behnken(k, o.centre < 0 ? 3 : o.centre);
+    } else if (o.kind == "lhs") {
+      d = doe::latin_hypercube(k, o.runs == 0 ? 10 * k : o.runs, o.seed);
+    } else {
+      static const std::vector<std::string> kinds{"pb", "factorial", "ccd", "bb", "lhs"};
+      throw InputError(
+          fmt::format("expected pb, factorial, ccd, bb or lhs, got '{}'{}", o.kind, did_you_mean(o.kind, kinds)))
+          .with_key("design");
+    }
+  } catch (const InputError& e) {
+    throw keyed(e);
+  }
+  if (!o.no_randomize) doe::randomize(d, o.seed);
+  std::string csv = "std_order,run_order,center_pt,block";
+  for (const doe::Factor& f : factors) csv += "," + f.name;
+  csv += "\n";
+  std::vector<Eigen::Index> by_run(static_cast<std::size_t>(d.runs()));
+  for (Eigen::Index r = 0; r < d.runs(); ++r)
+    by_run[static_cast<std::size_t>(d.run_order[static_cast<std::size_t>(r)] - 1)] = r;
+  for (const Eigen::Index r : by_run) {
+    csv += fmt::format("{},{},{},{}", r + 1, d.run_order[static_cast<std::size_t>(r)], point_type(d, r),
+                       d.block[static_cast<std::size_t>(r)]);
+    for (std::size_t f = 0; f < factors.size(); ++f) {
+      csv += fmt::format(",{:.6g}", factors[f].decode(d.coded(r, static_cast<Eigen::Index>(f))));
+    }
+    csv += "\n";
+  }
+  if (o.out.empty()) {
+    fmt::print("{}", csv);
+    return;
+  }
+  io::write_file_atomically(o.out, csv);
+  fmt::print("{} design, {} runs, {} factors, run order {} -> {}\n", d.kind, d.runs(), k,
+             o.no_randomize ? "standard" : fmt::format("random (seed {})", o.seed), o.out);
+}
+
 void add_common(CLI::App* cmd, DoeOptions& o) {
   cmd->add_option("file", o.file, "CSV with factor and response columns")->required();
   cmd->add_option("--factors", o.factors, "Factor columns, comma-separated")->required();
@@ -272,12 +353,25 @@ void add_common(CLI::App* cmd, DoeOptions& o) {
 
 void add_doe_command(CLI::App& app) {
   auto o = std::make_shared<DoeOptions>();
-  auto* doe = app.add_subcommand("doe", "Designed experiments: analysis and optimisation of responses");
+  auto* doe = app.add_subcommand("doe", "Designed experiments: designs, analysis and optimisation of responses");
   doe->require_subcommand(1);
   auto* analyze_cmd = doe->add_subcommand("analyze", "Fit a model and report coefficients, tests and ANOVA");
   add_common(analyze_cmd, *o);
   analyze_cmd->add_option("--plots", o->plots, "Write PNG plots (Pareto, fitted, main effects, contours) here");
   analyze_cmd->callback([o] { run_analyze(*o); });
+  auto* design_cmd = doe->add_subcommand("design", "A design table: pb, factorial, ccd, bb (Box-Behnken) or lhs");
+  design_cmd->add_option("design", o->kind, "pb, factorial, ccd, bb or lhs")->required();
+  design_cmd->add_option("--factors", o->factors, "Factors and their levels, name=low:high,...")->required();
+  design_cmd->add_option("--runs", o->runs, "Runs: 12, 20 or 24 for pb (12); any for lhs (10 per factor)");
+  design_cmd->add_option("--center", o->centre, "Centre points (per block for ccd; default factorial 0, ccd 6, bb 3)");
+  design_cmd->add_option("--fraction", o->fraction, "Factorial fraction p: 2^(k-p) runs")->capture_default_str();
+  design_cmd->add_option("--generators", o->generators, "Fraction generators, e.g. E=ABCD (default: standard)");
+  design_cmd->add_option("--ccd", o->ccd, "face, circumscribed or inscribed")->capture_default_str();
+  design_cmd->add_option("--blocks", o->blocks, "ccd: 1, or 2 (cube and axial blocks)")->capture_default_str();
+  design_cmd->add_option("--seed", o->seed, "Seed of the run order and of lhs")->capture_default_str();
+  design_cmd->add_flag("--no-randomize", o->no_randomize, "Keep the standard order");
+  design_cmd->add_option("--out", o->out, "Write the table here (CSV, atomically) instead of printing it");
+  design_cmd->callback([o] { run_design(*o); });
   auto* optimize_cmd = doe->add_subcommand("optimize", "Factor settings at which the fitted response hits a target");
   add_common(optimize_cmd, *o);
   optimize_cmd->add_option("--target", o->target, "Target response")->required();
