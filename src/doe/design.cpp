@@ -1,8 +1,8 @@
 #include "bushel/doe/design.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <map>
 #include <numeric>
 #include <random>
@@ -104,7 +104,8 @@ Design factorial(int factors, int fraction, int centre, const std::vector<std::s
     gens = it->second;
   }
   if (static_cast<int>(gens.size()) != fraction) {
-    throw InputError(fmt::format("expected {} generators for 2^({}-{}), got {}", fraction, factors, fraction, gens.size()))
+    throw InputError(
+        fmt::format("expected {} generators for 2^({}-{}), got {}", fraction, factors, fraction, gens.size()))
         .with_key("generators");
   }
   const int base = factors - fraction;

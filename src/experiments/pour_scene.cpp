@@ -104,7 +104,8 @@ PourScene make_pour_scene(const PourSpec& spec) {
   double top = 0.0;
   for (const Vec3& p : cloud) top = std::max(top, p.z);
   if (spec.bottom_mesh_cells > 0) {  // the same floor as triangles (the mesh benchmark)
-    sim.add_part(make_part("bottom", MeshSpec{square_mesh(diameter + 0.01, spec.bottom_mesh_cells), "square mesh"}, steel));
+    sim.add_part(
+        make_part("bottom", MeshSpec{square_mesh(diameter + 0.01, spec.bottom_mesh_cells), "square mesh"}, steel));
   } else {
     sim.add_part(plane_part("bottom", steel, {0, 0, 0}, {0, 0, 1}));
   }

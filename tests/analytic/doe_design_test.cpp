@@ -46,7 +46,8 @@ TEST(Designs, PlackettBurmanIsOrthogonalAndMatchesTheStudy) {
     expect_orthogonal_balanced(plackett_burman(runs - 1, runs).coded);
   }
   const Design pb = plackett_burman(6, 12);
-  EXPECT_EQ(pb.coded, study_design("pb_5sphere_large_table3_9.csv", {"fr_ww", "fr_ws", "fs_ww", "fs_ws", "e_ww", "e_ws"}));
+  EXPECT_EQ(pb.coded,
+            study_design("pb_5sphere_large_table3_9.csv", {"fr_ww", "fr_ws", "fs_ww", "fs_ws", "e_ww", "e_ws"}));
   EXPECT_THROW(plackett_burman(12, 12), InputError);
   EXPECT_THROW(plackett_burman(5, 16), InputError);
 }

@@ -11,11 +11,11 @@
 namespace bushel::doe {
 
 struct Design {
-  std::string kind;                ///< "plackett-burman", "factorial", "ccd", ...
-  Eigen::MatrixXd coded;           ///< runs x factors, in standard order
-  std::vector<int> block;          ///< per run, from 1
-  std::vector<bool> centre;        ///< per run: a centre point
-  std::vector<int> run_order;      ///< per run (standard order index): its position when run, from 1
+  std::string kind;            ///< "plackett-burman", "factorial", "ccd", ...
+  Eigen::MatrixXd coded;       ///< runs x factors, in standard order
+  std::vector<int> block;      ///< per run, from 1
+  std::vector<bool> centre;    ///< per run: a centre point
+  std::vector<int> run_order;  ///< per run (standard order index): its position when run, from 1
   int runs() const { return static_cast<int>(coded.rows()); }
 };
 
