@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "bushel/core/did_you_mean.hpp"
+#include "bushel/core/choice.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/doe/design.hpp"
 #include "bushel/doe/distributions.hpp"
@@ -307,10 +307,11 @@ void run_design(const DoeOptions& o) {
     } else if (o.kind == "lhs") {
       d = doe::latin_hypercube(k, o.runs == 0 ? 10 * k : o.runs, o.seed);
     } else {
-      static const std::vector<std::string> kinds{"pb", "factorial", "ccd", "bb", "lhs"};
-      throw InputError(
-          fmt::format("expected pb, factorial, ccd, bb or lhs, got '{}'{}", o.kind, did_you_mean(o.kind, kinds)))
-          .with_key("design");
+      try {
+        throw_bad_choice(o.kind, {"pb", "factorial", "ccd", "bb", "lhs"});
+      } catch (const InputError& e) {
+        throw e.with_key("design");
+      }
     }
   } catch (const InputError& e) {
     throw keyed(e);

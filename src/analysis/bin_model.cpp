@@ -4,18 +4,15 @@
 #include <cmath>
 #include <numbers>
 
-#include "bushel/core/did_you_mean.hpp"
+#include "bushel/core/choice.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/core/require.hpp"
 
 namespace bushel {
 
 Surcharge parse_surcharge(const std::string& text) {
-  if (text == "level") return Surcharge::level;
-  if (text == "peaked") return Surcharge::peaked;
-  if (text == "inverted") return Surcharge::inverted;
-  static const std::vector<std::string> names{"level", "peaked", "inverted"};
-  throw InputError(fmt::format("expected level, peaked or inverted, got '{}'{}", text, did_you_mean(text, names)));
+  return parse_choice<Surcharge>(
+      text, {{"level", Surcharge::level}, {"peaked", Surcharge::peaked}, {"inverted", Surcharge::inverted}});
 }
 
 namespace {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <utility>
 
-#include "bushel/core/did_you_mean.hpp"
+#include "bushel/core/choice.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/io/csv.hpp"
 #include "bushel/units/units.hpp"
@@ -13,11 +13,8 @@
 namespace bushel {
 
 Extrapolation parse_extrapolation(const std::string& text) {
-  if (text == "error") return Extrapolation::error;
-  if (text == "hold") return Extrapolation::hold;
-  if (text == "linear") return Extrapolation::linear;
-  static const std::vector<std::string> names{"error", "hold", "linear"};
-  throw InputError(fmt::format("expected error, hold or linear, got '{}'{}", text, did_you_mean(text, names)));
+  return parse_choice<Extrapolation>(
+      text, {{"error", Extrapolation::error}, {"hold", Extrapolation::hold}, {"linear", Extrapolation::linear}});
 }
 
 Compressibility Compressibility::none() { return {}; }

@@ -7,7 +7,7 @@
 #include <numeric>
 #include <random>
 
-#include "bushel/core/did_you_mean.hpp"
+#include "bushel/core/choice.hpp"
 #include "bushel/core/input_error.hpp"
 
 namespace bushel::doe {
@@ -134,12 +134,9 @@ Design factorial(int factors, int fraction, int centre, const std::vector<std::s
 }
 
 CcdType parse_ccd_type(const std::string& text) {
-  if (text == "circumscribed") return CcdType::circumscribed;
-  if (text == "face") return CcdType::face_centred;
-  if (text == "inscribed") return CcdType::inscribed;
-  static const std::vector<std::string> names{"circumscribed", "face", "inscribed"};
-  throw InputError(
-      fmt::format("expected circumscribed, face or inscribed, got '{}'{}", text, did_you_mean(text, names)));
+  return parse_choice<CcdType>(
+      text,
+      {{"circumscribed", CcdType::circumscribed}, {"face", CcdType::face_centred}, {"inscribed", CcdType::inscribed}});
 }
 
 Design central_composite(int factors, CcdType type, int centre, int blocks) {

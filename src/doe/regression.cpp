@@ -6,19 +6,16 @@
 #include <limits>
 #include <map>
 
-#include "bushel/core/did_you_mean.hpp"
+#include "bushel/core/choice.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/doe/distributions.hpp"
 
 namespace bushel::doe {
 
 ModelKind parse_model(const std::string& text) {
-  if (text == "main") return ModelKind::main;
-  if (text == "interactions") return ModelKind::interactions;
-  if (text == "quadratic") return ModelKind::quadratic;
-  static const std::vector<std::string> names{"main", "interactions", "quadratic"};
-  throw InputError(
-      fmt::format("expected main, interactions or quadratic, got '{}'{}", text, did_you_mean(text, names)));
+  return parse_choice<ModelKind>(
+      text,
+      {{"main", ModelKind::main}, {"interactions", ModelKind::interactions}, {"quadratic", ModelKind::quadratic}});
 }
 
 namespace {
