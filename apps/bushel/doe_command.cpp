@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -13,6 +14,7 @@
 #include "bushel/core/choice.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/doe/design.hpp"
+#include "bushel/doe/desirability.hpp"
 #include "bushel/doe/distributions.hpp"
 #include "bushel/doe/factor_table.hpp"
 #include "bushel/doe/regression.hpp"
@@ -26,14 +28,14 @@ namespace bushel::cli {
 namespace {
 
 struct DoeOptions {
-  std::string file, factors, response, model = "main", levels, plots, fix;
+  std::string file, factors, response, model = "main", levels, plots, fix, goals;
   // design
   std::string kind, ccd = "face", generators, out;
   int runs = 0, centre = -1, fraction = 0, blocks = 1;
   std::uint64_t seed = 1;
   bool no_randomize = false;
   double alpha = 0.1;
-  double target = 0.0;
+  double target = std::numeric_limits<double>::quiet_NaN();
   bool json = false;
 };
 
@@ -219,7 +221,9 @@ void run_analyze(const DoeOptions& o) {
 }
 
 void run_optimize(const DoeOptions& o) {
-  const Analysis a = analyze(o);
+  DoeOptions first = o;
+  first.response = split(o.response, ',').empty() ? o.response : split(o.response, ',').front();
+  const Analysis a = analyze(first);
   // Factors held at given values (physical units), the others free.
   const auto k = static_cast<Eigen::Index>(a.table.factors.size());
   Eigen::VectorXd start = Eigen::VectorXd::Zero(k);
@@ -241,6 +245,52 @@ void run_optimize(const DoeOptions& o) {
     }
     fixed[i] = true;
   }
+  if (!o.goals.empty()) {  // several responses: the best compromise by desirability
+    const std::vector<std::string> responses = split(o.response, ','), goal_texts = split(o.goals, ',');
+    if (responses.size() != goal_texts.size()) {
+      throw InputError(
+          fmt::format("expected one goal per response ({} responses, {} goals)", responses.size(), goal_texts.size()))
+          .with_key("--goal");
+    }
+    std::vector<doe::Fit> fits;
+    std::vector<doe::ResponseGoal> goals;
+    for (std::size_t r = 0; r < responses.size(); ++r) {
+      DoeOptions one = o;
+      one.response = responses[r];
+      fits.push_back(analyze(one).fit);
+      try {
+        goals.push_back(doe::parse_goal(goal_texts[r]));
+      } catch (const InputError& e) {
+        throw e.with_key("--goal");
+      }
+    }
+    const doe::Compromise c = doe::maximize_desirability(fits, goals, 1.0, start, fixed);
+    if (o.json) {
+      nlohmann::ordered_json j;
+      j["composite_desirability"] = c.composite;
+      j["settings"] = nlohmann::ordered_json::object();
+      for (std::size_t i = 0; i < a.table.factors.size(); ++i) {
+        j["settings"][a.table.factors[i].name] = a.table.factors[i].decode(c.coded(static_cast<Eigen::Index>(i)));
+      }
+      for (std::size_t r = 0; r < responses.size(); ++r) {
+        j["responses"][responses[r]] = {{"predicted", c.predicted[r]}, {"desirability", c.individual[r]}};
+      }
+      fmt::print("{}\n", j.dump(2));
+      return;
+    }
+    fmt::print("best compromise, composite desirability {:.4f}\n", c.composite);
+    for (std::size_t i = 0; i < a.table.factors.size(); ++i) {
+      const doe::Factor& f = a.table.factors[i];
+      fmt::print("  {:<16} {:.5g}   (coded {:+.3f})\n", f.name, f.decode(c.coded(static_cast<Eigen::Index>(i))),
+                 c.coded(static_cast<Eigen::Index>(i)));
+    }
+    for (std::size_t r = 0; r < responses.size(); ++r) {
+      fmt::print("  {:<16} predicted {:.5g}, desirability {:.3f}\n", responses[r], c.predicted[r], c.individual[r]);
+    }
+    return;
+  }
+  if (std::isnan(o.target))
+    throw InputError("expected --target (one response) or --goal (several)").with_key("--target");
   const Eigen::VectorXd x = doe::solve_for_target(a.fit, o.target, 1.0, start, fixed);
   const double predicted = a.fit.predict(x), half = a.fit.prediction_half_width(x, 0.05);
   if (o.json) {
@@ -375,7 +425,10 @@ void add_doe_command(CLI::App& app) {
   design_cmd->callback([o] { run_design(*o); });
   auto* optimize_cmd = doe->add_subcommand("optimize", "Factor settings at which the fitted response hits a target");
   add_common(optimize_cmd, *o);
-  optimize_cmd->add_option("--target", o->target, "Target response")->required();
+  optimize_cmd->add_option("--target", o->target, "Target response (one response)");
+  optimize_cmd->add_option("--goal", o->goals,
+                           "Several responses (--response a,b): a goal each, target:T:L:U, minimize:T:U or "
+                           "maximize:L:T, comma-separated; maximises the composite desirability");
   optimize_cmd->add_option("--fix", o->fix, "Factors held at a value, name=value,... (physical units)");
   optimize_cmd->callback([o] { run_optimize(*o); });
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bushel/core/input_error.hpp"
+#include "bushel/doe/desirability.hpp"
 #include "bushel/doe/distributions.hpp"
 #include "bushel/doe/regression.hpp"
 #include "bushel/io/csv.hpp"
@@ -134,6 +135,38 @@ TEST(Regression, CurvatureFromCentrePointsAndLackOfFit) {
   EXPECT_NEAR(fit.coefficients.back().coef, -3.0, 1e-9);  // centre mean - corner-fitted mean
   EXPECT_LT(fit.coefficients.back().p, 0.05);
   EXPECT_THROW(doe::fit(x.topRows(3), y.head(3), {"a", "b"}, ModelKind::interactions), InputError);
+}
+
+}  // namespace
+}  // namespace bushel::doe
+
+namespace bushel::doe {
+namespace {
+
+TEST(Desirability, GoalsAndTheBestCompromise) {
+  const ResponseGoal t = parse_goal("target:10:8:14");
+  EXPECT_DOUBLE_EQ(desirability(t, 10.0), 1.0);
+  EXPECT_DOUBLE_EQ(desirability(t, 9.0), 0.5);
+  EXPECT_DOUBLE_EQ(desirability(t, 12.5), 0.375);
+  EXPECT_DOUBLE_EQ(desirability(t, 7.0), 0.0);
+  const ResponseGoal lo = parse_goal("minimize:2:6");
+  EXPECT_DOUBLE_EQ(desirability(lo, 1.0), 1.0);
+  EXPECT_DOUBLE_EQ(desirability(lo, 5.0), 0.25);
+  const ResponseGoal hi = parse_goal("maximize:0:4");
+  EXPECT_DOUBLE_EQ(desirability(hi, 3.0), 0.75);
+  EXPECT_THROW(parse_goal("target:10:12:14"), InputError);
+  EXPECT_THROW(parse_goal("minimise:2:6"), InputError);
+  // y1 = a (target 0.5 on [0, 1]), y2 = a + b (maximised up to 1.5): the best compromise is
+  // a = 0.5 with b = 1, both fully desirable.
+  Eigen::MatrixXd x(5, 2);
+  x << -1, -1, 1, -1, -1, 1, 1, 1, 0, 0;
+  Eigen::VectorXd y1 = x.col(0), y2 = x.col(0) + x.col(1);
+  y1(4) += 1e-3, y2(4) -= 1e-3;  // an error estimate for the fits
+  const std::vector<Fit> fits{fit(x, y1, {"a", "b"}, ModelKind::main), fit(x, y2, {"a", "b"}, ModelKind::main)};
+  const Compromise c = maximize_desirability(fits, {parse_goal("target:0.5:0:1"), parse_goal("maximize:0:1.5")});
+  EXPECT_GT(c.composite, 0.999);
+  EXPECT_NEAR(c.coded(0), 0.5, 2e-3);
+  EXPECT_NEAR(c.coded(1), 1.0, 2e-3);
 }
 
 }  // namespace
