@@ -200,14 +200,35 @@ void print_analysis(const Analysis& a, const DoeOptions& o) {
   }
 }
 
-void write_plots(const Analysis& a, const DoeOptions& o) {
+// The tables as CSV (coefficients.csv, anova.csv), everything as analysis.json, and the
+// PNG plots, in the output directory.
+void write_outputs(const Analysis& a, const DoeOptions& o) {
   if (o.plots.empty()) return;
-  std::filesystem::create_directories(o.plots);
-  const std::string json_path = (std::filesystem::path(o.plots) / "analysis.json").string();
+  const std::filesystem::path dir(o.plots);
+  std::filesystem::create_directories(dir);
+  auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.10g}", v) : std::string(); };
+  std::string coefficients = "term,effect,coefficient,se,t,p,significant\n";
+  for (const doe::Coefficient& c : a.fit.coefficients) {
+    coefficients += fmt::format("{},{},{},{},{},{},{}\n", c.term, cell(c.effect), cell(c.coef), cell(c.se), cell(c.t),
+                                cell(c.p), c.significant ? 1 : 0);
+  }
+  io::write_file_atomically((dir / "coefficients.csv").string(), coefficients);
+  std::string anova = "source,df,adj_ss,adj_ms,f,p\n";
+  for (const doe::AnovaRow& r : a.fit.anova) {
+    std::string source = r.source;
+    source.erase(0, source.find_first_not_of(' '));
+    anova += fmt::format("{},{},{},{},{},{}\n", source, r.df, cell(r.ss), cell(r.ms), cell(r.f), cell(r.p));
+  }
+  io::write_file_atomically((dir / "anova.csv").string(), anova);
+  const std::string json_path = (dir / "analysis.json").string();
   io::write_file_atomically(json_path, to_json(a, o).dump(2));
   io::run_python(plot_script, {json_path, o.plots});
-  if (!o.json)
-    fmt::print("\nplots                  {}/ (pareto, fitted_vs_observed, main_effects, contours)\n", o.plots);
+  if (!o.json) {
+    fmt::print(
+        "\nwritten to {}/: coefficients.csv, anova.csv, analysis.json, pareto.png, fitted_vs_observed.png, "
+        "main_effects.png{}\n",
+        o.plots, o.model == "quadratic" ? ", contours.png" : "");
+  }
 }
 
 void run_analyze(const DoeOptions& o) {
@@ -217,7 +238,7 @@ void run_analyze(const DoeOptions& o) {
   } else {
     print_analysis(a, o);
   }
-  write_plots(a, o);
+  write_outputs(a, o);
 }
 
 void run_optimize(const DoeOptions& o) {
@@ -408,7 +429,9 @@ void add_doe_command(CLI::App& app) {
   doe->require_subcommand(1);
   auto* analyze_cmd = doe->add_subcommand("analyze", "Fit a model and report coefficients, tests and ANOVA");
   add_common(analyze_cmd, *o);
-  analyze_cmd->add_option("--plots", o->plots, "Write PNG plots (Pareto, fitted, main effects, contours) here");
+  analyze_cmd->add_option("--out", o->plots,
+                          "Write the tables (CSV), the analysis (JSON) and PNG plots (Pareto, fitted vs observed, "
+                          "main effects, contours) to this directory");
   analyze_cmd->callback([o] { run_analyze(*o); });
   auto* design_cmd = doe->add_subcommand("design", "A design table: pb, factorial, ccd, bb (Box-Behnken) or lhs");
   design_cmd->add_option("design", o->kind, "pb, factorial, ccd, bb or lhs")->required();
