@@ -28,7 +28,7 @@ namespace bushel::cli {
 namespace {
 
 struct DoeOptions {
-  std::string file, factors, response, model = "main", levels, plots, fix, goals;
+  std::string file, factors, response, model = "main", levels, plots, fix, goals, block;
   // design
   std::string kind, ccd = "face", generators, out;
   int runs = 0, centre = -1, fraction = 0, blocks = 1;
@@ -82,8 +82,8 @@ Analysis analyze(const DoeOptions& o) {
       throw e.with_key("--model");
     }
   }();
-  doe::FactorTable table = doe::read_factor_table(o.file, factors, o.response, parse_levels(o.levels));
-  doe::Fit fit = doe::fit(table.coded, table.response, factors, kind, o.alpha);
+  doe::FactorTable table = doe::read_factor_table(o.file, factors, o.response, parse_levels(o.levels), o.block);
+  doe::Fit fit = doe::fit(table.coded, table.response, factors, kind, o.alpha, table.blocks);
   return {std::move(table), std::move(fit)};
 }
 
@@ -418,6 +418,7 @@ void add_common(CLI::App* cmd, DoeOptions& o) {
   cmd->add_option("--model", o.model, "main, interactions or quadratic")->capture_default_str();
   cmd->add_option("--alpha", o.alpha, "Significance level")->capture_default_str();
   cmd->add_option("--levels", o.levels, "Low and high levels, name=low:high,... (default: each column's range)");
+  cmd->add_option("--block", o.block, "Column of block labels: block terms in the model (Minitab's Blocks)");
   cmd->add_flag("--json", o.json, "Print JSON");
 }
 

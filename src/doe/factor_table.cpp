@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "bushel/core/input_error.hpp"
 #include "bushel/io/csv.hpp"
 
@@ -15,7 +17,8 @@ std::vector<std::string> FactorTable::names() const {
 
 FactorTable read_factor_table(const std::string& path, const std::vector<std::string>& factors,
                               const std::string& response,
-                              const std::map<std::string, std::pair<double, double>>& levels) {
+                              const std::map<std::string, std::pair<double, double>>& levels,
+                              const std::string& block_column) {
   const io::CsvTable t = io::CsvTable::read(path);
   const auto n = static_cast<Eigen::Index>(t.rows().size());
   if (n == 0) throw InputError("expected rows of runs").at(path);
@@ -42,6 +45,18 @@ FactorTable read_factor_table(const std::string& path, const std::vector<std::st
     out.factors.push_back(factor);
   }
   out.response = column_values(response);
+  if (!block_column.empty()) {
+    const std::size_t c = t.column(block_column);
+    for (const io::CsvRow& row : t.rows()) {
+      const double b = t.number(row, c);
+      if (b != std::round(b)) {
+        throw InputError(fmt::format("expected an integer block label, got {}", b))
+            .at(path, row.line)
+            .with_key(block_column);
+      }
+      out.blocks.push_back(static_cast<int>(b));
+    }
+  }
   return out;
 }
 

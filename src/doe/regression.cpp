@@ -26,6 +26,7 @@ bool is_centre(const Eigen::VectorXd& x) { return x.cwiseAbs().maxCoeff() < 1e-9
 
 double Term_value(const Term& t, const Eigen::VectorXd& x, bool centre) {
   if (t.centre_indicator) return centre ? 1.0 : 0.0;
+  if (t.block >= 0) return 0.0;  // (filled per run by model_matrix)
   double v = 1.0;
   for (const int f : t.factors) v *= x(f);
   return v;
@@ -34,18 +35,28 @@ double Term_value(const Term& t, const Eigen::VectorXd& x, bool centre) {
 // Which group a term belongs to in the ANOVA table (Minitab's grouping).
 std::string group_of(const Term& t) {
   if (t.centre_indicator) return "Curvature";
+  if (t.block >= 0) return "Blocks";
   if (t.factors.size() == 1) return "Linear";
   if (t.factors.size() == 2) return t.factors[0] == t.factors[1] ? "Square" : "2-Way Interaction";
   return "Constant";
 }
 
-Eigen::MatrixXd model_matrix(const std::vector<Term>& terms, const Eigen::MatrixXd& coded) {
+// `block_of[r]`: run r's block as an index 0..n_blocks-1 (empty: no blocks).
+Eigen::MatrixXd model_matrix(const std::vector<Term>& terms, const Eigen::MatrixXd& coded,
+                             const std::vector<int>& block_of, int n_blocks) {
   Eigen::MatrixXd x(coded.rows(), static_cast<Eigen::Index>(terms.size()));
   for (Eigen::Index r = 0; r < coded.rows(); ++r) {
     const Eigen::VectorXd row = coded.row(r).transpose();
     const bool centre = is_centre(row);
-    for (std::size_t c = 0; c < terms.size(); ++c)
-      x(r, static_cast<Eigen::Index>(c)) = Term_value(terms[c], row, centre);
+    for (std::size_t c = 0; c < terms.size(); ++c) {
+      const Term& t = terms[c];
+      double v = Term_value(t, row, centre);
+      if (t.block >= 0) {
+        const int b = block_of[static_cast<std::size_t>(r)];
+        v = b == t.block ? 1.0 : b == n_blocks - 1 ? -1.0 : 0.0;
+      }
+      x(r, static_cast<Eigen::Index>(c)) = v;
+    }
   }
   return x;
 }
@@ -72,7 +83,7 @@ Eigen::VectorXd Fit::gradient(const Eigen::VectorXd& coded) const {
   Eigen::VectorXd g = Eigen::VectorXd::Zero(coded.size());
   for (std::size_t c = 0; c < terms.size(); ++c) {
     const Term& t = terms[c];
-    if (t.centre_indicator) continue;
+    if (t.centre_indicator || t.block >= 0) continue;
     for (std::size_t k = 0; k < t.factors.size(); ++k) {  // d/dx_f of the product
       double rest = 1.0;
       for (std::size_t m = 0; m < t.factors.size(); ++m) {
@@ -92,7 +103,7 @@ double Fit::prediction_half_width(const Eigen::VectorXd& coded, double a) const 
 }
 
 Fit fit(const Eigen::MatrixXd& coded, const Eigen::VectorXd& y, const std::vector<std::string>& factors,
-        ModelKind model, double alpha) {
+        ModelKind model, double alpha, const std::vector<int>& blocks) {
   const auto k = static_cast<int>(factors.size());
   if (coded.cols() != k || coded.rows() != y.size()) throw InputError("expected one coded column per factor");
   Fit out;
@@ -115,6 +126,22 @@ Fit fit(const Eigen::MatrixXd& coded, const Eigen::VectorXd& y, const std::vecto
       }
     }
   }
+  // Blocks, sorted by label as Minitab lists them; the last is the one coded -1.
+  std::vector<int> labels(blocks.begin(), blocks.end()), block_of;
+  std::sort(labels.begin(), labels.end());
+  labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
+  if (!blocks.empty() && static_cast<Eigen::Index>(blocks.size()) != y.size()) {
+    throw InputError("expected one block label per run");
+  }
+  for (const int b : blocks) {
+    block_of.push_back(static_cast<int>(std::lower_bound(labels.begin(), labels.end(), b) - labels.begin()));
+  }
+  const int n_blocks = static_cast<int>(labels.size());
+  for (int b = 0; b + 1 < n_blocks; ++b) {
+    Term t{fmt::format("Block {}", labels[static_cast<std::size_t>(b)]), {}};
+    t.block = b;
+    terms.push_back(t);
+  }
   // Curvature: a two-level design with centre points, fitted without squares.
   int centres = 0, corners = 0;
   for (Eigen::Index r = 0; r < coded.rows(); ++r) {
@@ -124,7 +151,7 @@ Fit fit(const Eigen::MatrixXd& coded, const Eigen::VectorXd& y, const std::vecto
   }
   if (model != ModelKind::quadratic && centres > 0 && corners > 0) terms.push_back({"Ct Pt", {}, true});
 
-  const Eigen::MatrixXd x = model_matrix(terms, coded);
+  const Eigen::MatrixXd x = model_matrix(terms, coded, block_of, n_blocks);
   const auto p = static_cast<int>(terms.size());
   if (out.runs <= p) {
     throw InputError(fmt::format("{} runs cannot fit a model of {} terms with an error estimate", out.runs, p));
@@ -160,7 +187,8 @@ Fit fit(const Eigen::MatrixXd& coded, const Eigen::VectorXd& y, const std::vecto
     co.t = co.coef / co.se;
     co.p = t_two_sided_p(co.t, out.error_df);
     const bool linear_or_interaction =
-        !t.centre_indicator && (t.factors.size() == 1 || (t.factors.size() == 2 && t.factors[0] != t.factors[1]));
+        !t.centre_indicator && t.block < 0 &&
+        (t.factors.size() == 1 || (t.factors.size() == 2 && t.factors[0] != t.factors[1]));
     co.effect = linear_or_interaction ? 2.0 * co.coef : nan;
     co.significant = c > 0 && co.p < alpha;
     out.coefficients.push_back(co);
@@ -177,7 +205,7 @@ Fit fit(const Eigen::MatrixXd& coded, const Eigen::VectorXd& y, const std::vecto
     out.anova.push_back(a);
   };
   row("Model", p - 1, sst - sse, true);
-  for (const char* group : {"Linear", "Square", "2-Way Interaction", "Curvature"}) {
+  for (const char* group : {"Blocks", "Linear", "Square", "2-Way Interaction", "Curvature"}) {
     std::vector<Eigen::Index> keep;
     for (int c = 0; c < p; ++c) {
       if (group_of(terms[static_cast<std::size_t>(c)]) != group) keep.push_back(c);

@@ -15,7 +15,7 @@ import numpy as np
 bushel, data = sys.argv[1], sys.argv[2]
 
 
-def numpy_fit(path, factors, response, quadratic):
+def numpy_fit(path, factors, response, quadratic, block=None):
     rows = list(csv.DictReader(line for line in open(path) if not line.startswith("#")))
     raw = np.array([[float(r[f]) for f in factors] for r in rows])
     lo, hi = raw.min(axis=0), raw.max(axis=0)
@@ -23,6 +23,11 @@ def numpy_fit(path, factors, response, quadratic):
     y = np.array([float(r[response]) for r in rows])
     k = len(factors)
     names, cols = ["Constant"], [np.ones(len(y))]
+    if block:  # effect coding: 1 in the block, -1 in the last
+        labels = sorted({int(float(r[block])) for r in rows})
+        b = np.array([int(float(r[block])) for r in rows])
+        for lab in labels[:-1]:
+            names.append(f"Block {lab}"); cols.append(np.where(b == lab, 1.0, np.where(b == labels[-1], -1.0, 0.0)))
     for i in range(k):
         names.append(factors[i]); cols.append(x[:, i])
     if quadratic:
@@ -44,11 +49,12 @@ def numpy_fit(path, factors, response, quadratic):
     return dict(zip(names, zip(b, se, b / se))), 1 - e @ e / sst, 1 - mse / (sst / (n - 1)), 1 - press / sst
 
 
-def check(path, factors, response, model):
+def check(path, factors, response, model, block=None):
+    extra = ["--block", block] if block else []
     out = subprocess.run([bushel, "doe", "analyze", path, "--factors", ",".join(factors), "--response", response,
-                          "--model", model, "--json"], check=True, capture_output=True, text=True).stdout
+                          "--model", model, "--json"] + extra, check=True, capture_output=True, text=True).stdout
     j = json.loads(out)
-    terms, r2, r2a, r2p = numpy_fit(path, factors, response, model == "quadratic")
+    terms, r2, r2a, r2p = numpy_fit(path, factors, response, model == "quadratic", block)
     got = {t["term"]: t for t in j["terms"]}
     bad = []
     for name, (b, se, t) in terms.items():
@@ -67,5 +73,7 @@ def check(path, factors, response, model):
 
 
 check(f"{data}/rsm_5sphere_large_table3_10.csv", ["fs_ww", "fr_ww", "e_ww", "fs_ws"], "bulk_density", "quadratic")
+check(f"{data}/rsm_5sphere_large_table3_10.csv", ["fs_ww", "fr_ww", "e_ww", "fs_ws"], "bulk_density", "quadratic",
+      "block")
 check(f"{data}/pb_5sphere_large_table3_9.csv", ["fr_ww", "fr_ws", "fs_ww", "fs_ws", "e_ww", "e_ws"], "bulk_density",
       "main")

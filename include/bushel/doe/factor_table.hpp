@@ -22,15 +22,18 @@ struct FactorTable {
   std::vector<Factor> factors;
   Eigen::MatrixXd coded;     ///< runs x factors
   Eigen::VectorXd response;  ///< one per run
+  std::vector<int> blocks;   ///< block label per run (empty without a block column)
   std::vector<std::string> names() const;
 };
 
-/// Reads `path`; `factors` name columns, `response` a column. A factor's levels are those in
+/// Reads `path`; `factors` name columns, `response` a column, `block_column` (if not empty)
+/// a column of integer block labels. A factor's levels are those in
 /// `levels` (name -> low, high) or else its smallest and largest value in the table. Throws
 /// InputError naming the file, line and column for a missing column, a cell that is not a
 /// number, or a factor that does not vary.
 FactorTable read_factor_table(const std::string& path, const std::vector<std::string>& factors,
                               const std::string& response,
-                              const std::map<std::string, std::pair<double, double>>& levels = {});
+                              const std::map<std::string, std::pair<double, double>>& levels = {},
+                              const std::string& block_column = "");
 
 }  // namespace bushel::doe

@@ -23,10 +23,13 @@ ModelKind parse_model(const std::string& text);
 
 /// A term: the factors it multiplies (empty: the constant; {i, i}: a square).
 struct Term {
-  std::string name;  ///< "fr_ww", "fr_ww*fs_ww", "fr_ww*fr_ww", "Constant", "Ct Pt"
+  std::string name;  ///< "fr_ww", "fr_ww*fs_ww", "fr_ww*fr_ww", "Constant", "Ct Pt", "Block 1"
   std::vector<int> factors;
-  bool centre_indicator = false;                     ///< 1 at centre points, 0 elsewhere (curvature)
-  double value(const Eigen::VectorXd& coded) const;  ///< the term's column entry for a run
+  bool centre_indicator = false;  ///< 1 at centre points, 0 elsewhere (curvature)
+  int block = -1;                 ///< a block term (effect coding: 1 in this block, -1 in the last, 0 else)
+  /// The term's column entry for a run at `coded`; 0 for centre and block terms, so that a
+  /// prediction is the average over blocks.
+  double value(const Eigen::VectorXd& coded) const;
 };
 
 struct Coefficient {
@@ -67,10 +70,11 @@ struct Fit {
 
 /// Fits `model` to responses `y` at runs `coded` (one row per run, one column per factor,
 /// coded units). A centre-point indicator is added to models without squares when the design
-/// has both centre points and factorial points. Throws InputError when there are fewer runs
+/// has both centre points and factorial points; with `blocks` (a label per run, two or more
+/// distinct) effect-coded block terms are added (Minitab's "Blocks"). Throws InputError when there are fewer runs
 /// than terms, or the terms are not estimable (a singular design for this model).
 Fit fit(const Eigen::MatrixXd& coded, const Eigen::VectorXd& y, const std::vector<std::string>& factors,
-        ModelKind model, double alpha = 0.1);
+        ModelKind model, double alpha = 0.1, const std::vector<int>& blocks = {});
 
 /// Factor settings (coded) within [-limit, limit] on every factor at which the fitted
 /// response equals `target`, found by descending (predict - target)^2 from `start` (the
