@@ -13,6 +13,7 @@
 
 #include "bushel/core/choice.hpp"
 #include "bushel/core/input_error.hpp"
+#include "bushel/doe/campaign.hpp"
 #include "bushel/doe/design.hpp"
 #include "bushel/doe/desirability.hpp"
 #include "bushel/doe/distributions.hpp"
@@ -34,6 +35,9 @@ struct DoeOptions {
   int runs = 0, centre = -1, fraction = 0, blocks = 1;
   std::uint64_t seed = 1;
   bool no_randomize = false;
+  // campaign
+  std::vector<std::string> command;
+  int jobs = 1, threads = 0;
   double alpha = 0.1;
   double target = std::numeric_limits<double>::quiet_NaN();
   bool json = false;
@@ -411,6 +415,22 @@ void run_design(const DoeOptions& o) {
              o.no_randomize ? "standard" : fmt::format("random (seed {})", o.seed), o.out);
 }
 
+void run_campaign(const DoeOptions& o) {
+  doe::CampaignSpec spec;
+  spec.design = o.file;
+  spec.out = o.out;
+  spec.command = o.command;
+  spec.responses = split(o.response, ',');
+  spec.jobs = o.jobs;
+  spec.threads = o.threads;
+  const doe::CampaignReport r = doe::run_campaign(spec);
+  fmt::print("{} runs: {} already done, {} ran, {} failed -> {}\n", r.runs, r.skipped, r.ran, r.failed, r.results);
+  if (r.failed > 0) {
+    throw InputError(
+        fmt::format("{} runs failed (see their stderr.txt); run the campaign again to retry them", r.failed));
+  }
+}
+
 void add_common(CLI::App* cmd, DoeOptions& o) {
   cmd->add_option("file", o.file, "CSV with factor and response columns")->required();
   cmd->add_option("--factors", o.factors, "Factor columns, comma-separated")->required();
@@ -447,6 +467,19 @@ void add_doe_command(CLI::App& app) {
   design_cmd->add_flag("--no-randomize", o->no_randomize, "Keep the standard order");
   design_cmd->add_option("--out", o->out, "Write the table here (CSV, atomically) instead of printing it");
   design_cmd->callback([o] { run_design(*o); });
+  auto* run_cmd = doe->add_subcommand("run", "Run a command per design row (resumable), collecting JSON responses");
+  run_cmd->add_option("design", o->file, "Design CSV (std_order and factor columns)")->required();
+  run_cmd->add_option("--out", o->out, "Campaign directory: run_<std_order>/ per row, results.csv")->required();
+  run_cmd->add_option("--response", o->response, "Keys of the command's JSON output to collect, e.g. mass_kg")
+      ->required();
+  run_cmd->add_option("--jobs", o->jobs, "Runs at a time")->capture_default_str();
+  run_cmd->add_option("--threads", o->threads, "OpenMP threads per run (0: cores / jobs)")->capture_default_str();
+  run_cmd
+      ->add_option("command", o->command,
+                   "After --: the command per row; {column} is the row's value, {run_dir} its directory, "
+                   "{bushel} this program")
+      ->required();
+  run_cmd->callback([o] { run_campaign(*o); });
   auto* optimize_cmd = doe->add_subcommand("optimize", "Factor settings at which the fitted response hits a target");
   add_common(optimize_cmd, *o);
   optimize_cmd->add_option("--target", o->target, "Target response (one response)");

@@ -1,0 +1,242 @@
+#include "bushel/doe/campaign.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "bushel/core/input_error.hpp"
+#include "bushel/io/atomic_file.hpp"
+#include "bushel/io/csv.hpp"
+
+extern char** environ;
+
+namespace bushel::doe {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Row {
+  int std_order = 0;
+  std::vector<std::string> values;  // as written in the design, one per column
+  std::vector<double> responses;
+  std::string status = "pending";
+};
+
+// The command of one row: placeholders replaced; InputError for an unknown one.
+std::vector<std::string> expand(const std::vector<std::string>& command, const std::vector<std::string>& header,
+                                const Row& row, const std::string& run_dir) {
+  std::vector<std::string> out;
+  for (const std::string& arg : command) {
+    std::string text;
+    for (std::size_t i = 0; i < arg.size();) {
+      const std::size_t open = arg.find('{', i);
+      if (open == std::string::npos) {
+        text += arg.substr(i);
+        break;
+      }
+      const std::size_t close = arg.find('}', open);
+      if (close == std::string::npos) throw InputError(fmt::format("unclosed placeholder in '{}'", arg));
+      text += arg.substr(i, open - i);
+      const std::string name = arg.substr(open + 1, close - open - 1);
+      if (name == "run_dir") {
+        text += run_dir;
+      } else if (name == "bushel") {
+        text += fs::read_symlink("/proc/self/exe").string();
+      } else {
+        const auto it = std::find(header.begin(), header.end(), name);
+        if (it == header.end()) {
+          throw InputError(fmt::format("placeholder {{{}}} names no column of the design (columns: {})", name,
+                                       fmt::join(header, ", ")))
+              .with_key("command");
+        }
+        text += row.values[static_cast<std::size_t>(it - header.begin())];
+      }
+      i = close + 1;
+    }
+    out.push_back(text);
+  }
+  return out;
+}
+
+double response_value(const nlohmann::json& j, const std::string& key) {
+  const nlohmann::json* node = &j;
+  std::stringstream path(key);
+  for (std::string part; std::getline(path, part, '.');) {
+    if (!node->is_object() || !node->contains(part)) throw InputError(fmt::format("no key '{}' in the output", key));
+    node = &(*node)[part];
+  }
+  if (!node->is_number()) throw InputError(fmt::format("'{}' in the output is not a number", key));
+  return node->get<double>();
+}
+
+void write_results(const std::string& path, const std::vector<std::string>& header,
+                   const std::vector<std::string>& responses, const std::vector<Row>& rows) {
+  std::string csv = fmt::format("{},{},status\n", fmt::join(header, ","), fmt::join(responses, ","));
+  for (const Row& r : rows) {
+    std::vector<std::string> cells = r.values;
+    for (std::size_t k = 0; k < responses.size(); ++k) {
+      cells.push_back(r.status == "done" ? fmt::format("{:.10g}", r.responses[k]) : "");
+    }
+    csv += fmt::format("{},{}\n", fmt::join(cells, ","), r.status);
+  }
+  io::write_file_atomically(path, csv);
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+CampaignReport run_campaign(const CampaignSpec& spec, bool progress) {
+  // --- everything checked before the first run -------------------------------------------
+  if (spec.command.empty()) throw InputError("expected a command to run per row, after --").with_key("command");
+  if (spec.responses.empty()) throw InputError("expected response keys, e.g. mass_kg").with_key("responses");
+  if (spec.jobs < 1) throw InputError("expected at least 1 job").with_key("jobs");
+  const io::CsvTable table = io::CsvTable::read(spec.design);
+  const std::vector<std::string>& header = table.header();
+  const std::size_t order_column = table.column("std_order");
+  std::vector<Row> rows;
+  for (const io::CsvRow& r : table.rows()) {
+    Row row;
+    row.std_order = static_cast<int>(table.number(r, order_column));
+    row.values = r.fields;
+    rows.push_back(row);
+  }
+  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.std_order < b.std_order; });
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    if (rows[i].std_order == rows[i - 1].std_order) {
+      throw InputError(fmt::format("std_order {} appears twice", rows[i].std_order)).at(spec.design);
+    }
+  }
+  for (const Row& r : rows) (void)expand(spec.command, header, r, "");  // placeholders
+  fs::create_directories(spec.out);
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  const int threads = spec.threads > 0 ? spec.threads : std::max(1, static_cast<int>(cores) / spec.jobs);
+
+  CampaignReport report;
+  report.runs = static_cast<int>(rows.size());
+  report.results = (fs::path(spec.out) / "results.csv").string();
+  // Finished runs: their done.json holds the responses.
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const fs::path done = fs::path(spec.out) / fmt::format("run_{}", rows[i].std_order) / "done.json";
+    bool finished = false;
+    if (fs::exists(done)) {
+      try {
+        const nlohmann::json j = nlohmann::json::parse(read_file(done));
+        for (const std::string& key : spec.responses) rows[i].responses.push_back(response_value(j, key));
+        rows[i].status = "done";
+        finished = true;
+      } catch (const std::exception&) {
+        rows[i].responses.clear();  // unreadable: run again
+      }
+    }
+    if (finished) {
+      ++report.skipped;
+    } else {
+      todo.push_back(i);
+    }
+  }
+  // In the design's run order where it has one (a randomised order guards a lab experiment
+  // against drift; for simulations it costs nothing to keep).
+  if (table.has_column("run_order")) {
+    const std::size_t c = table.column("run_order");
+    std::map<int, double> run_order;
+    for (const io::CsvRow& r : table.rows())
+      run_order[static_cast<int>(table.number(r, order_column))] = table.number(r, c);
+    std::stable_sort(todo.begin(), todo.end(), [&](std::size_t a, std::size_t b) {
+      return run_order[rows[a].std_order] < run_order[rows[b].std_order];
+    });
+  }
+  write_results(report.results, header, spec.responses, rows);
+
+  // --- the runs, `jobs` at a time ----------------------------------------------------------
+  std::vector<std::string> env;
+  for (char** e = environ; *e != nullptr; ++e) {
+    if (std::string(*e).rfind("OMP_NUM_THREADS=", 0) != 0) env.emplace_back(*e);
+  }
+  env.push_back(fmt::format("OMP_NUM_THREADS={}", threads));
+  std::vector<char*> envp;
+  for (std::string& e : env) envp.push_back(e.data());
+  envp.push_back(nullptr);
+
+  std::map<pid_t, std::size_t> running;
+  std::size_t next = 0;
+  auto start = [&](std::size_t i) {
+    Row& row = rows[i];
+    const fs::path dir = fs::path(spec.out) / fmt::format("run_{}", row.std_order);
+    fs::remove_all(dir);  // a run cut short starts afresh
+    fs::create_directories(dir);
+    std::vector<std::string> args = expand(spec.command, header, row, dir.string());
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    const std::string out = (dir / "stdout.txt").string(), err = (dir / "stderr.txt").string();
+    posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    pid_t pid = 0;
+    const int rc = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), envp.data());
+    posix_spawn_file_actions_destroy(&actions);
+    if (rc != 0) throw InputError(fmt::format("cannot run '{}'", args[0])).with_key("command");
+    running[pid] = i;
+  };
+  while (next < todo.size() || !running.empty()) {
+    while (next < todo.size() && static_cast<int>(running.size()) < spec.jobs) start(todo[next++]);
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    if (pid < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    Row& row = rows[it->second];
+    running.erase(it);
+    const fs::path dir = fs::path(spec.out) / fmt::format("run_{}", row.std_order);
+    row.status = "failed";
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+      try {
+        const nlohmann::json j = nlohmann::json::parse(read_file(dir / "stdout.txt"));
+        nlohmann::json done = nlohmann::json::object();
+        row.responses.clear();
+        for (const std::string& key : spec.responses) {
+          row.responses.push_back(response_value(j, key));
+          done[key] = row.responses.back();
+        }
+        io::write_file_atomically((dir / "done.json").string(), done.dump(2));
+        row.status = "done";
+        ++report.ran;
+      } catch (const std::exception& e) {
+        std::ofstream(dir / "stderr.txt", std::ios::app) << "bushel doe run: " << e.what() << "\n";
+      }
+    }
+    if (row.status == "failed") ++report.failed;
+    write_results(report.results, header, spec.responses, rows);
+    if (progress) {
+      fmt::print(stderr, "run {} {} ({} of {} done)\n", row.std_order, row.status, report.skipped + report.ran,
+                 report.runs);
+    }
+  }
+  return report;
+}
+
+}  // namespace bushel::doe
