@@ -424,6 +424,7 @@ void run_campaign(const DoeOptions& o) {
   spec.jobs = o.jobs;
   spec.threads = o.threads;
   const doe::CampaignReport r = doe::run_campaign(spec);
+  if (!r.coordinator) return;  // an MPI rank that only ran rows
   fmt::print("{} runs: {} already done, {} ran, {} failed -> {}\n", r.runs, r.skipped, r.ran, r.failed, r.results);
   if (r.failed > 0) {
     throw InputError(

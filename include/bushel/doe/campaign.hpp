@@ -24,11 +24,15 @@ struct CampaignSpec {
 
 struct CampaignReport {
   int runs = 0, skipped = 0, ran = 0, failed = 0;
-  std::string results;  ///< path of the results table
+  std::string results;      ///< path of the results table
+  bool coordinator = true;  ///< false on the MPI ranks that only ran rows (they report nothing)
 };
 
 /// Checks the spec (the design's columns, every placeholder) before anything runs, then runs
-/// the missing rows. Throws InputError for a bad spec; failed runs are reported, not thrown.
+/// the missing rows: `jobs` at a time here, or, when started by `mpirun -n K` in a build with
+/// MPI, on ranks 1..K-1 with rank 0 handing out the rows (the campaign directory must be on a
+/// file system all ranks see). Throws InputError for a bad spec; failed runs are reported,
+/// not thrown.
 CampaignReport run_campaign(const CampaignSpec& spec, bool progress = true);
 
 }  // namespace bushel::doe
