@@ -54,13 +54,13 @@ double incomplete_beta(double a, double b, double x) {
 }
 
 double t_two_sided_p(double t, double df) {
-  if (!(df > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  if (!(df > 0.0) || std::isnan(t)) return std::numeric_limits<double>::quiet_NaN();
   if (std::isinf(t)) return 0.0;
   return incomplete_beta(0.5 * df, 0.5, df / (df + t * t));
 }
 
 double f_upper_p(double f, double df1, double df2) {
-  if (!(df1 > 0.0 && df2 > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  if (!(df1 > 0.0 && df2 > 0.0) || std::isnan(f)) return std::numeric_limits<double>::quiet_NaN();
   if (f <= 0.0) return 1.0;
   if (std::isinf(f)) return 0.0;
   return incomplete_beta(0.5 * df2, 0.5 * df1, df2 / (df2 + df1 * f));

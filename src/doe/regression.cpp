@@ -167,6 +167,7 @@ Fit fit(const Eigen::MatrixXd& coded, const Eigen::VectorXd& y, const std::vecto
   out.s = std::sqrt(mse);
   const double mean = y.mean();
   const double sst = (y.array() - mean).square().sum();
+  if (!(sst > 0.0)) throw InputError(fmt::format("the response is {} in every run: there is nothing to fit", mean));
   out.r2 = 1.0 - sse / sst;
   out.r2_adjusted = 1.0 - (sse / out.error_df) / (sst / (out.runs - 1));
   // PRESS: each run's residual as if it had been left out, e / (1 - h).

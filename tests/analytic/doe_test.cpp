@@ -135,6 +135,12 @@ TEST(Regression, CurvatureFromCentrePointsAndLackOfFit) {
   EXPECT_NEAR(fit.coefficients.back().coef, -3.0, 1e-9);  // centre mean - corner-fitted mean
   EXPECT_LT(fit.coefficients.back().p, 0.05);
   EXPECT_THROW(doe::fit(x.topRows(3), y.head(3), {"a", "b"}, ModelKind::interactions), InputError);
+  // A response that never changes has nothing to fit; an exact fit (to rounding) has p ~ 0.
+  EXPECT_THROW(doe::fit(x, Eigen::VectorXd::Constant(7, 5.0), {"a", "b"}, ModelKind::main), InputError);
+  const Eigen::VectorXd exact =
+      3.0 + 2.0 * x.col(0).array() - x.col(1).array() + (x.col(0).array() == 0.0).cast<double>();
+  const Fit perfect = doe::fit(x, exact, {"a", "b"}, ModelKind::main);
+  EXPECT_LT(perfect.coefficients[1].p, 1e-10);
 }
 
 }  // namespace
