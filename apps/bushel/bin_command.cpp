@@ -5,7 +5,6 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numbers>
-#include <sstream>
 
 #include "bushel/analysis/bin_model.hpp"
 #include "bushel/analysis/grain_trade.hpp"
@@ -70,8 +69,7 @@ Compressibility choose_model(const BinOptions& o) {
   if (o.moisture.empty())
     throw InputError("the WPACKING form needs the moisture content, e.g. 12%").with_key("--moisture");
   std::vector<double> c;
-  std::stringstream in(o.wpacking);
-  for (std::string item; std::getline(in, item, ',');) {
+  for (const std::string& item : split_list(o.wpacking)) {
     try {
       c.push_back(units::parse_number(item));
     } catch (const InputError& e) {

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 #include "bushel/units/units.hpp"
 
@@ -23,5 +24,8 @@ void set_threads(int threads);
 
 /// Parses a quantity given on the command line, naming the option in the error.
 double option_quantity(const std::string& option, const std::string& text, units::Dimension expected);
+
+/// The non-empty items of a `sep`-separated list ("a,b,c").
+std::vector<std::string> split_list(const std::string& text, char sep = ',');
 
 }  // namespace bushel::cli

@@ -9,7 +9,6 @@
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "bushel/core/choice.hpp"
 #include "bushel/core/input_error.hpp"
@@ -43,19 +42,10 @@ struct DoeOptions {
   bool json = false;
 };
 
-std::vector<std::string> split(const std::string& text, char sep) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, sep);) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 // "name=low:high,..." -> levels.
 std::map<std::string, std::pair<double, double>> parse_levels(const std::string& text) {
   std::map<std::string, std::pair<double, double>> out;
-  for (const std::string& item : split(text, ',')) {
+  for (const std::string& item : split_list(text, ',')) {
     const auto eq = item.find('='), colon = item.find(':');
     if (eq == std::string::npos || colon == std::string::npos || colon < eq) {
       throw InputError(fmt::format("expected name=low:high, got '{}'", item)).with_key("--levels");
@@ -76,7 +66,7 @@ struct Analysis {
 };
 
 Analysis analyze(const DoeOptions& o) {
-  const std::vector<std::string> factors = split(o.factors, ',');
+  const std::vector<std::string> factors = split_list(o.factors, ',');
   if (factors.empty()) throw InputError("expected factor columns, e.g. fr_ww,fs_ww").with_key("--factors");
   if (!(o.alpha > 0.0 && o.alpha < 1.0)) throw InputError("expected alpha in (0, 1)").with_key("--alpha");
   const doe::ModelKind kind = [&] {
@@ -247,13 +237,13 @@ void run_analyze(const DoeOptions& o) {
 
 void run_optimize(const DoeOptions& o) {
   DoeOptions first = o;
-  first.response = split(o.response, ',').empty() ? o.response : split(o.response, ',').front();
+  if (const auto responses = split_list(o.response); !responses.empty()) first.response = responses.front();
   const Analysis a = analyze(first);
   // Factors held at given values (physical units), the others free.
   const auto k = static_cast<Eigen::Index>(a.table.factors.size());
   Eigen::VectorXd start = Eigen::VectorXd::Zero(k);
   std::vector<bool> fixed(a.table.factors.size(), false);
-  for (const std::string& item : split(o.fix, ',')) {
+  for (const std::string& item : split_list(o.fix, ',')) {
     const auto eq = item.find('=');
     const std::string name = item.substr(0, eq);
     const auto it = std::find_if(a.table.factors.begin(), a.table.factors.end(),
@@ -271,7 +261,7 @@ void run_optimize(const DoeOptions& o) {
     fixed[i] = true;
   }
   if (!o.goals.empty()) {  // several responses: the best compromise by desirability
-    const std::vector<std::string> responses = split(o.response, ','), goal_texts = split(o.goals, ',');
+    const std::vector<std::string> responses = split_list(o.response, ','), goal_texts = split_list(o.goals, ',');
     if (responses.size() != goal_texts.size()) {
       throw InputError(
           fmt::format("expected one goal per response ({} responses, {} goals)", responses.size(), goal_texts.size()))
@@ -355,7 +345,7 @@ void run_design(const DoeOptions& o) {
   const auto levels = parse_levels(o.factors);
   // parse_levels sorts by name; keep the order given.
   std::vector<doe::Factor> factors;
-  for (const std::string& item : split(o.factors, ',')) {
+  for (const std::string& item : split_list(o.factors, ',')) {
     const std::string name = item.substr(0, item.find('='));
     factors.push_back({name, levels.at(name).first, levels.at(name).second});
   }
@@ -374,7 +364,7 @@ void run_design(const DoeOptions& o) {
     if (o.kind == "pb") {
       d = doe::plackett_burman(k, o.runs == 0 ? 12 : o.runs);
     } else if (o.kind == "factorial") {
-      d = doe::factorial(k, o.fraction, std::max(o.centre, 0), split(o.generators, ','));
+      d = doe::factorial(k, o.fraction, std::max(o.centre, 0), split_list(o.generators, ','));
     } else if (o.kind == "ccd") {
       d = doe::central_composite(k, doe::parse_ccd_type(o.ccd), o.centre < 0 ? 6 : o.centre, o.blocks);
     } else if (o.kind == "bb") {
@@ -420,7 +410,7 @@ void run_campaign(const DoeOptions& o) {
   spec.design = o.file;
   spec.out = o.out;
   spec.command = o.command;
-  spec.responses = split(o.response, ',');
+  spec.responses = split_list(o.response, ',');
   spec.jobs = o.jobs;
   spec.threads = o.threads;
   const doe::CampaignReport r = doe::run_campaign(spec);

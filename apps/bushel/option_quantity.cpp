@@ -1,3 +1,5 @@
+#include <sstream>
+
 #include "bushel/core/input_error.hpp"
 #include "commands.hpp"
 
@@ -9,6 +11,15 @@ double option_quantity(const std::string& option, const std::string& text, units
   } catch (const InputError& e) {
     throw e.with_key(option);
   }
+}
+
+std::vector<std::string> split_list(const std::string& text, char sep) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, sep);) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
 }
 
 }  // namespace bushel::cli

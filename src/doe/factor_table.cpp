@@ -9,12 +9,6 @@
 
 namespace bushel::doe {
 
-std::vector<std::string> FactorTable::names() const {
-  std::vector<std::string> n;
-  for (const Factor& f : factors) n.push_back(f.name);
-  return n;
-}
-
 FactorTable read_factor_table(const std::string& path, const std::vector<std::string>& factors,
                               const std::string& response,
                               const std::map<std::string, std::pair<double, double>>& levels,

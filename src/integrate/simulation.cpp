@@ -177,13 +177,13 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     solve(pb, dt);
     for (int k = 0; k < pb.size; ++k) {
       const auto kk = static_cast<std::size_t>(k);
-      const std::uint32_t i = pl.element[kk], p = pl.pair[kk];
+      const std::uint32_t i = pl.element[kk], p = pl.pair[kk], j = second[p];
       double* hist = history + std::size_t{p} * static_cast<std::size_t>(h);
       hist[0] = pb.xi_x[k], hist[1] = pb.xi_y[k], hist[2] = pb.xi_z[k];
       Vec3 spring = Rolling::history_size ? load3(hist + 3) : Vec3{};
       double inertia_r = 0.0;
       if constexpr (std::is_same_v<Rolling, EpsdRolling>) {
-        const std::uint32_t bi = owner[i], bj = owner[second[p]];
+        const std::uint32_t bi = owner[i], bj = owner[j];
         const double ii = min_moment(inertia[bi]) + mass[bi] * pb.arm_i[k] * pb.arm_i[k];
         const double ij = min_moment(inertia[bj]) + mass[bj] * pb.arm_j[k] * pb.arm_j[k];
         inertia_r = ii * ij / (ii + ij);
@@ -207,7 +207,6 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       element_force[i] += f;
       element_torque[i] += t_i;
       element_cdt[i] += roll.cdt_i;
-      const std::uint32_t j = second[p];
       if (second_direct[j]) {  // this thread has all of j's pairs as second: sum in pair order
         second_force[j] -= f;
         second_torque[j] += t_j;

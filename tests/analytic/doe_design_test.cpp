@@ -11,26 +11,17 @@
 #include <string>
 
 #include "bushel/core/input_error.hpp"
-#include "bushel/io/csv.hpp"
+#include "bushel/doe/factor_table.hpp"
 
 namespace bushel::doe {
 namespace {
 
 // The table's factor columns coded from their ranges, rows in standard order.
 Eigen::MatrixXd study_design(const std::string& file, const std::vector<std::string>& factors) {
-  const io::CsvTable t = io::CsvTable::read(std::string(BUSHEL_DATA_DIR) + "/" + file);
-  const auto n = static_cast<Eigen::Index>(t.rows().size());
-  Eigen::MatrixXd x(n, static_cast<Eigen::Index>(factors.size()));
-  const std::size_t order = t.column("std_order");
-  for (std::size_t f = 0; f < factors.size(); ++f) {
-    const std::size_t c = t.column(factors[f]);
-    double lo = 1e300, hi = -1e300;
-    for (const auto& row : t.rows()) lo = std::min(lo, t.number(row, c)), hi = std::max(hi, t.number(row, c));
-    for (const auto& row : t.rows()) {
-      const auto r = static_cast<Eigen::Index>(t.number(row, order)) - 1;
-      x(r, static_cast<Eigen::Index>(f)) = (t.number(row, c) - 0.5 * (lo + hi)) / (0.5 * (hi - lo));
-    }
-  }
+  const FactorTable t = read_factor_table(std::string(BUSHEL_DATA_DIR) + "/" + file, factors, "std_order");
+  Eigen::MatrixXd x(t.coded.rows(), t.coded.cols());
+  for (Eigen::Index r = 0; r < t.coded.rows(); ++r)
+    x.row(static_cast<Eigen::Index>(t.response(r)) - 1) = t.coded.row(r);
   return x;
 }
 

@@ -13,32 +13,15 @@
 #include "bushel/core/input_error.hpp"
 #include "bushel/doe/desirability.hpp"
 #include "bushel/doe/distributions.hpp"
+#include "bushel/doe/factor_table.hpp"
 #include "bushel/doe/regression.hpp"
-#include "bushel/io/csv.hpp"
 
 namespace bushel::doe {
 namespace {
 
-struct Table {
-  Eigen::MatrixXd coded;
-  Eigen::VectorXd y;
-};
-
-// Columns `factors` coded from their own minimum and maximum (the design's low and high).
-Table read(const std::string& file, const std::vector<std::string>& factors, const std::string& response) {
-  const io::CsvTable t = io::CsvTable::read(std::string(BUSHEL_DATA_DIR) + "/" + file);
-  const auto n = static_cast<Eigen::Index>(t.rows().size());
-  Table out{Eigen::MatrixXd(n, static_cast<Eigen::Index>(factors.size())), Eigen::VectorXd(n)};
-  for (std::size_t f = 0; f < factors.size(); ++f) {
-    const std::size_t c = t.column(factors[f]);
-    Eigen::VectorXd raw(n);
-    for (Eigen::Index r = 0; r < n; ++r) raw(r) = t.number(t.rows()[static_cast<std::size_t>(r)], c);
-    const double lo = raw.minCoeff(), hi = raw.maxCoeff();
-    out.coded.col(static_cast<Eigen::Index>(f)) = (raw.array() - 0.5 * (lo + hi)) / (0.5 * (hi - lo));
-  }
-  const std::size_t c = t.column(response);
-  for (Eigen::Index r = 0; r < n; ++r) out.y(r) = t.number(t.rows()[static_cast<std::size_t>(r)], c);
-  return out;
+// The study's tables, each factor coded from its own range (the design's low and high).
+FactorTable read(const std::string& file, const std::vector<std::string>& factors, const std::string& response) {
+  return read_factor_table(std::string(BUSHEL_DATA_DIR) + "/" + file, factors, response);
 }
 
 TEST(Distributions, TabulatedCriticalValues) {
@@ -53,8 +36,8 @@ TEST(Distributions, TabulatedCriticalValues) {
 
 TEST(Screening, PlackettBurmanRanksTheStudysFourEffects) {
   const std::vector<std::string> f{"fr_ww", "fr_ws", "fs_ww", "fs_ws", "e_ww", "e_ws"};
-  const Table t = read("pb_5sphere_large_table3_9.csv", f, "bulk_density");
-  const Fit fit = doe::fit(t.coded, t.y, f, ModelKind::main, 0.1);
+  const FactorTable t = read("pb_5sphere_large_table3_9.csv", f, "bulk_density");
+  const Fit fit = doe::fit(t.coded, t.response, f, ModelKind::main, 0.1);
   // The study kept fr_ww, fs_ww, e_ww and fs_ws (alpha 0.1): friction lowers the bulk
   // density, restitution raises it.
   std::set<std::string> significant;
@@ -74,11 +57,11 @@ TEST(Screening, PlackettBurmanRanksTheStudysFourEffects) {
   EXPECT_LT(coef("fs_ws").effect, 0.0);
   EXPECT_GT(coef("e_ww").effect, 0.0);
   // Independent: the design is orthogonal, so b = X^T y / N and se = s / sqrt(N).
-  const double n = static_cast<double>(t.y.size());
-  EXPECT_NEAR(fit.coefficients[0].coef, t.y.mean(), 1e-10);
+  const double n = static_cast<double>(t.response.size());
+  EXPECT_NEAR(fit.coefficients[0].coef, t.response.mean(), 1e-10);
   for (std::size_t i = 0; i < f.size(); ++i) {
     const Coefficient& c = fit.coefficients[i + 1];
-    EXPECT_NEAR(c.coef, t.coded.col(static_cast<Eigen::Index>(i)).dot(t.y) / n, 1e-10) << c.term;
+    EXPECT_NEAR(c.coef, t.coded.col(static_cast<Eigen::Index>(i)).dot(t.response) / n, 1e-10) << c.term;
     EXPECT_NEAR(c.se, fit.s / std::sqrt(n), 1e-10) << c.term;
   }
   EXPECT_NEAR(coef("fs_ww").coef, -29.733, 1e-3);  // (numpy normal equations, same data)
@@ -88,8 +71,8 @@ TEST(Screening, PlackettBurmanRanksTheStudysFourEffects) {
 
 TEST(ResponseSurface, QuadraticFitAndTheStudysCalibratedPoint) {
   const std::vector<std::string> f{"fs_ww", "fr_ww", "e_ww", "fs_ws"};
-  const Table t = read("rsm_5sphere_large_table3_10.csv", f, "bulk_density");
-  const Fit fit = doe::fit(t.coded, t.y, f, ModelKind::quadratic, 0.1);
+  const FactorTable t = read("rsm_5sphere_large_table3_10.csv", f, "bulk_density");
+  const Fit fit = doe::fit(t.coded, t.response, f, ModelKind::quadratic, 0.1);
   EXPECT_GT(fit.r2, 0.998);
   EXPECT_NEAR(fit.r2, 0.99920, 1e-4);  // numpy: 0.9991957
   EXPECT_NEAR(fit.s, 0.8484, 1e-3);

@@ -23,7 +23,6 @@ struct FactorTable {
   Eigen::MatrixXd coded;     ///< runs x factors
   Eigen::VectorXd response;  ///< one per run
   std::vector<int> blocks;   ///< block label per run (empty without a block column)
-  std::vector<std::string> names() const;
 };
 
 /// Reads `path`; `factors` name columns, `response` a column, `block_column` (if not empty)
