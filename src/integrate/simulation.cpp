@@ -72,45 +72,39 @@ struct PartLanes {
 struct PairLanes {
   PairBatch batch;
   std::array<std::uint32_t, PairBatch::capacity> element, pair;
-  std::array<double, PairBatch::capacity> mu_r;
-  std::vector<std::uint32_t> touching;
-  const PairCoefficients* shared = nullptr;  // lane 0's coefficients
-
-  // Lane k's offsets: not stored while every pair so far is of lone spheres (centred); the
-  // first that is not zeroes those before it.
-  void set_offsets(int k, bool lone, const Vec3& oi, const Vec3& oj) {
-    PairBatch& b = batch;
-    if (!lone && b.centred) {
-      std::fill_n(b.oix, k, 0.0), std::fill_n(b.oiy, k, 0.0), std::fill_n(b.oiz, k, 0.0);
-      std::fill_n(b.ojx, k, 0.0), std::fill_n(b.ojy, k, 0.0), std::fill_n(b.ojz, k, 0.0);
-      b.centred = false;
-    }
-    if (b.centred) return;
-    b.oix[k] = oi.x, b.oiy[k] = oi.y, b.oiz[k] = oi.z;
-    b.ojx[k] = oj.x, b.ojy[k] = oj.y, b.ojz[k] = oj.z;
-  }
-  // Lane k's coefficients: stored in lane 0 only while every pair so far has the same (one
-  // material, the usual case); the first that differs copies lane 0's to those before it.
-  void set_coefficients(int k, const PairCoefficients& co) {
-    PairBatch& b = batch;
-    if (k == 0) {
-      shared = &co;
-    } else if (b.uniform) {
-      if (&co == shared) return;
-      std::fill_n(b.youngs_modulus + 1, k - 1, b.youngs_modulus[0]);
-      std::fill_n(b.stiffness_ratio + 1, k - 1, b.stiffness_ratio[0]);
-      std::fill_n(b.root_stiffness_ratio + 1, k - 1, b.root_stiffness_ratio[0]);
-      std::fill_n(b.damping + 1, k - 1, b.damping[0]);
-      std::fill_n(b.static_friction + 1, k - 1, b.static_friction[0]);
-      b.uniform = false;
-    }
+  std::array<std::uint32_t, PairBatch::capacity> coefficient;  // index of the pair's coefficients
+  std::array<std::uint8_t, PairBatch::capacity> lone;           // both elements are lone spheres
+  std::vector<std::uint32_t> touching, ended;
+};
+// The rare cases of a batch, kept out of the loop that fills it (a call there would make the
+// compiler keep that loop's pointers in memory): lanes whose coefficients differ from lane
+// 0's, and elements that are not at their bodies' centres of mass.
+[[gnu::noinline, gnu::cold]] void set_coefficients(PairLanes& pl, const PairCoefficients* coefficients) {
+  PairBatch& b = pl.batch;
+  for (int k = 0; k < b.size; ++k) {
+    const PairCoefficients& co = coefficients[pl.coefficient[static_cast<std::size_t>(k)]];
     b.youngs_modulus[k] = co.youngs_modulus;
     b.stiffness_ratio[k] = co.stiffness_ratio;
     b.root_stiffness_ratio[k] = co.root_stiffness_ratio;
     b.damping[k] = co.damping;
     b.static_friction[k] = co.static_friction;
   }
-};
+}
+[[gnu::noinline, gnu::cold]] void set_offsets(PairLanes& pl, std::span<const Vec3> x_el, std::span<const Vec3> x_b,
+                                              std::span<const std::uint32_t> owner,
+                                              std::span<const std::uint32_t> sphere_count,
+                                              std::span<const std::uint32_t> second) {
+  PairBatch& b = pl.batch;
+  for (int k = 0; k < b.size; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const std::uint32_t i = pl.element[kk], j = second[pl.pair[kk]], bi = owner[i], bj = owner[j];
+    // (a lone sphere's centre is its centre of mass: its body position is not read)
+    const Vec3 oi = sphere_count[bi] == 1 ? Vec3{} : x_el[i] - x_b[bi];
+    const Vec3 oj = sphere_count[bj] == 1 ? Vec3{} : x_el[j] - x_b[bj];
+    b.oix[k] = oi.x, b.oiy[k] = oi.y, b.oiz[k] = oi.z;
+    b.ojx[k] = oj.x, b.ojy[k] = oj.y, b.ojz[k] = oj.z;
+  }
+}
 
 struct Workspace {
   PairLanes pairs;
@@ -196,7 +190,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
                                                   pb.r_star[k],
                                                   pb.normal_force[k],
                                                   pb.normal_stiffness[k],
-                                                  pl.mu_r[kk],
+                                                  coefficient_data[pl.coefficient[kk]].rolling_friction,
                                                   inertia_r,
                                                   dt},
                                                  spring);
@@ -221,55 +215,70 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       if (pb.overlap[k] * deepest_radius > deepest * smaller) deepest = pb.overlap[k], deepest_radius = smaller;
     }
     r.touching += static_cast<std::size_t>(pb.size);
-    pb.size = 0;
-    pb.centred = pb.uniform = true;
   };
   std::fill(element_force.begin() + e0, element_force.begin() + e1, Vec3{});
   std::fill(element_torque.begin() + e0, element_torque.begin() + e1, Vec3{});
   std::fill(element_cdt.begin() + e0, element_cdt.begin() + e1, 0.0);
   // Which pairs touch, without a branch on it: about a third of the pairs in the list do
-  // not, in no predictable order. A contact that ended has its history zeroed.
+  // not, in no predictable order. A contact that ended has its history zeroed (after the
+  // loop, which stays free of calls).
   pl.touching.resize(p1 - p0);
-  std::size_t n_touching = 0;
+  pl.ended.resize(p1 - p0);
+  std::size_t n_touching = 0, n_ended = 0;
   for (std::size_t p = p0; p < p1; ++p) {
     const std::uint32_t i = first[p], j = second[p];
     const double reach = radius[i] + radius[j];
     const std::uint8_t touch = norm2(x_el[j] - x_el[i]) < reach * reach ? 1 : 0;
     pl.touching[n_touching] = static_cast<std::uint32_t>(p);
     n_touching += touch;
-    if (active[p] > touch) [[unlikely]]
-      std::fill_n(history + p * static_cast<std::size_t>(h), h, 0.0);
+    pl.ended[n_ended] = static_cast<std::uint32_t>(p);
+    n_ended += active[p] > touch ? 1 : 0;
     active[p] = touch;
   }
-  // The touching pairs into the batch, side i = the pair's first element.
-  for (std::size_t t = 0; t < n_touching; ++t) {
-    const std::uint32_t p = pl.touching[t];
-    const std::uint32_t i = first[p], j = second[p], bi = owner[i], bj = owner[j];
-    const int k = pb.size++;
-    const auto kk = static_cast<std::size_t>(k);
-    const Vec3 xi = x_el[i], xj = x_el[j];
-    const Vec3 d = xj - xi;
-    // (a lone sphere's centre is its centre of mass: its body position is not read)
-    const bool lone_i = sphere_count[bi] == 1, lone_j = sphere_count[bj] == 1;
-    pl.set_offsets(k, lone_i && lone_j, lone_i ? Vec3{} : xi - x_b[bi], lone_j ? Vec3{} : xj - x_b[bj]);
-    const Vec3 vi = v_b[bi], vj = v_b[bj], wi = w_b[bi], wj = w_b[bj];
-    pb.dx[k] = d.x, pb.dy[k] = d.y, pb.dz[k] = d.z;
-    pb.ri[k] = radius[i], pb.rj[k] = radius[j];
-    pb.vix[k] = vi.x, pb.viy[k] = vi.y, pb.viz[k] = vi.z;
-    pb.vjx[k] = vj.x, pb.vjy[k] = vj.y, pb.vjz[k] = vj.z;
-    pb.wix[k] = wi.x, pb.wiy[k] = wi.y, pb.wiz[k] = wi.z;
-    pb.wjx[k] = wj.x, pb.wjy[k] = wj.y, pb.wjz[k] = wj.z;
-    pb.mi[k] = mass[bi], pb.mj[k] = mass[bj];
-    const PairCoefficients& co = coefficients(species[i], species[j]);
-    pl.set_coefficients(k, co);
-    const double* hist = history + std::size_t{p} * static_cast<std::size_t>(h);
-    pb.xi_x[k] = hist[0], pb.xi_y[k] = hist[1], pb.xi_z[k] = hist[2];
-    pl.element[kk] = i;
-    pl.pair[kk] = p;
-    pl.mu_r[kk] = co.rolling_friction;
-    if (pb.size == PairBatch::capacity) finish_pairs();
+  for (std::size_t e = 0; e < n_ended; ++e) std::fill_n(history + std::size_t{pl.ended[e]} * std::size_t(h), h, 0.0);
+  // The touching pairs into batches, side i = the pair's first element. The coefficients
+  // are stored once while every pair of the batch has the same (one material, the usual
+  // case), the offsets not at all while every element is a lone sphere.
+  for (std::size_t t0 = 0; t0 < n_touching; t0 += PairBatch::capacity) {
+    const int n = static_cast<int>(std::min<std::size_t>(PairBatch::capacity, n_touching - t0));
+    const auto ns = static_cast<std::uint32_t>(n_species);  // (a handful: the species table is square)
+    const std::uint32_t co0 = species[first[pl.touching[t0]]] * ns + species[second[pl.touching[t0]]];
+    bool lone = true, uniform = true;
+    for (int k = 0; k < n; ++k) {
+      const auto kk = static_cast<std::size_t>(k);
+      const std::uint32_t p = pl.touching[t0 + kk];
+      const std::uint32_t i = first[p], j = second[p], bi = owner[i], bj = owner[j];
+      // (read in place: copies of the Vec3s went through the stack)
+      const Vec3 &xi = x_el[i], &xj = x_el[j], &vi = v_b[bi], &vj = v_b[bj], &wi = w_b[bi], &wj = w_b[bj];
+      pb.dx[k] = xj.x - xi.x, pb.dy[k] = xj.y - xi.y, pb.dz[k] = xj.z - xi.z;
+      pb.ri[k] = radius[i], pb.rj[k] = radius[j];
+      pb.vix[k] = vi.x, pb.viy[k] = vi.y, pb.viz[k] = vi.z;
+      pb.vjx[k] = vj.x, pb.vjy[k] = vj.y, pb.vjz[k] = vj.z;
+      pb.wix[k] = wi.x, pb.wiy[k] = wi.y, pb.wiz[k] = wi.z;
+      pb.wjx[k] = wj.x, pb.wjy[k] = wj.y, pb.wjz[k] = wj.z;
+      pb.mi[k] = mass[bi], pb.mj[k] = mass[bj];
+      const double* hist = history + std::size_t{p} * static_cast<std::size_t>(h);
+      pb.xi_x[k] = hist[0], pb.xi_y[k] = hist[1], pb.xi_z[k] = hist[2];
+      const std::uint32_t co = species[i] * ns + species[j];
+      pl.coefficient[kk] = co;
+      uniform &= co == co0;
+      lone &= sphere_count[bi] == 1 && sphere_count[bj] == 1;
+      pl.element[kk] = i;
+      pl.pair[kk] = p;
+    }
+    pb.size = n;
+    pb.centred = lone;
+    pb.uniform = uniform;
+    const PairCoefficients& c0 = coefficient_data[co0];
+    pb.youngs_modulus[0] = c0.youngs_modulus;
+    pb.stiffness_ratio[0] = c0.stiffness_ratio;
+    pb.root_stiffness_ratio[0] = c0.root_stiffness_ratio;
+    pb.damping[0] = c0.damping;
+    pb.static_friction[0] = c0.static_friction;
+    if (!uniform) set_coefficients(pl, coefficient_data);
+    if (!lone) set_offsets(pl, x_el, x_b, owner, sphere_count, second);
+    finish_pairs();
   }
-  finish_pairs();
   r.max_ratio = deepest / deepest_radius;
 
   // --- sphere-part -----------------------------------------------------------------------
