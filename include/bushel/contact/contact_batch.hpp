@@ -50,7 +50,7 @@ void solve(ContactBatch& batch, double dt);
 /// (zero for a lone sphere); the contact point is c = x_i + (r_i - delta/2) n, so the arms
 /// are o_i + (r_i - delta/2) n and o_j - (r_j - delta/2) n.
 struct PairBatch {
-  static constexpr int capacity = 32;
+  static constexpr int capacity = 64;
   int size = 0;         ///< contacts in use
   bool centred = true;  ///< every element is at its body's centre of mass (o = 0, not read)
   bool uniform = true;  ///< every contact has lane 0's coefficients (the other lanes' not read)
