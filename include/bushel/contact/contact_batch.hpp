@@ -3,7 +3,8 @@
 // contacts at once. The batch is in structure-of-arrays form and the law is written without
 // branches, so the compiler runs several contacts per instruction (SSE2, or AVX2 or AVX-512
 // where the processor has them; all give the same bits: only IEEE add, multiply, divide and
-// square root, no fused multiply-add). Sphere-sphere and sphere-part contacts both go through this law.
+// square root, no fused multiply-add). Sphere-sphere and sphere-part contacts both go through
+// this law.
 //
 // Per contact, with delta the overlap, v the relative velocity of i's contact point, n the
 // unit normal from i to j, v_n = v . n (approach speed) and v_t = v - v_n n:
