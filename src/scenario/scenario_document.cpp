@@ -1,0 +1,195 @@
+#include "bushel/scenario/scenario_document.hpp"
+
+#include <charconv>
+#include <fstream>
+#include <sstream>
+
+#include "bushel/core/did_you_mean.hpp"
+#include "bushel/core/input_error.hpp"
+
+namespace bushel {
+namespace {
+
+constexpr const char* command_line = "command line";
+
+std::vector<std::string> split_path(const std::string& path) {
+  std::vector<std::string> segments;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = path.find('.', start);
+    segments.push_back(path.substr(start, dot == std::string::npos ? std::string::npos : dot - start));
+    if (dot == std::string::npos) return segments;
+    start = dot + 1;
+  }
+}
+
+std::vector<std::string> keys_of(const YAML::Node& map) {
+  std::vector<std::string> keys;
+  for (const auto& kv : map) keys.push_back(kv.first.as<std::string>());
+  return keys;
+}
+
+// The list index a segment names, or -1 if it is not a whole number.
+long index_of(const std::string& segment) {
+  long k = -1;
+  const auto [end, ec] = std::from_chars(segment.data(), segment.data() + segment.size(), k);
+  return ec == std::errc{} && end == segment.data() + segment.size() ? k : -1;
+}
+
+// Applies one override: the path leads through existing maps and lists to a single value
+// (or to a new key of a map). The value becomes a node of its own, without a line in the
+// file, so that errors about it point at the command line.
+void apply(YAML::Node root, const Override& o) {
+  const std::vector<std::string> segments = split_path(o.path);
+  auto fail = [&](const std::string& problem) {
+    return InputError("--set " + o.path + ": " + problem).at(command_line);
+  };
+  YAML::Node node = root;
+  std::string walked = "the scenario";
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    const std::string& seg = segments[s];
+    const bool last = s + 1 == segments.size();
+    YAML::Node child;
+    bool exists = true;
+    if (node.IsSequence()) {
+      const long k = index_of(seg);
+      if (k < 0 || static_cast<std::size_t>(k) >= node.size()) {
+        throw fail(walked + " is a list of " + std::to_string(node.size()) + "; '" + seg +
+                   "' is not an index into it (from 0)");
+      }
+      child.reset(node[static_cast<std::size_t>(k)]);
+    } else if (node.IsMap()) {
+      if (!node[seg] && !last) throw fail(walked + " has no key '" + seg + "'" + did_you_mean(seg, keys_of(node)));
+      exists = static_cast<bool>(node[seg]);
+      if (exists) child.reset(node[seg]);
+    } else {
+      throw fail(walked + " is a single value; it has no '" + seg + "'");
+    }
+    if (last) {
+      if (exists && (child.IsMap() || child.IsSequence())) {
+        throw fail("'" + o.path + "' is a " + (child.IsMap() ? "map" : "list") + "; only single values can be set");
+      }
+      if (node.IsSequence()) {
+        node[static_cast<std::size_t>(index_of(seg))] = YAML::Node(o.value);
+      } else {
+        node[seg] = YAML::Node(o.value);
+      }
+      return;
+    }
+    node.reset(child);
+    walked = "'";
+    for (std::size_t k = 0; k <= s; ++k) walked += (k ? "." : "") + segments[k];
+    walked += "'";
+  }
+}
+
+// Replaces each ${name} in a scalar's text.
+std::string substitute(const std::string& text, const std::map<std::string, std::string>& parameters,
+                       const std::vector<std::string>& names) {
+  std::string out;
+  std::size_t at = 0;
+  while (true) {
+    const std::size_t open = text.find("${", at);
+    if (open == std::string::npos) return out + text.substr(at);
+    const std::size_t close = text.find('}', open);
+    if (close == std::string::npos) throw InputError("'${' without its closing '}' in \"" + text + "\"");
+    const std::string name = text.substr(open + 2, close - open - 2);
+    const auto it = parameters.find(name);
+    if (it == parameters.end()) {
+      std::string declared;
+      for (const auto& n : names) declared += (declared.empty() ? "" : ", ") + n;
+      throw InputError("unknown parameter '" + name + "'" + did_you_mean(name, names) +
+                       "; the parameters: section declares " + (declared.empty() ? "none" : declared));
+    }
+    out += text.substr(at, open - at) + it->second;
+    at = close + 1;
+  }
+}
+
+void substitute_all(YAML::Node node, const std::string& path, const std::map<std::string, std::string>& parameters,
+                    const std::vector<std::string>& names, const std::string& file) {
+  if (node.IsScalar()) {
+    const std::string text = node.Scalar();
+    if (text.find("${") == std::string::npos) return;
+    try {
+      node = substitute(text, parameters, names);
+    } catch (const InputError& e) {
+      throw e.with_key(path).at(file, line_of(node));
+    }
+    return;
+  }
+  if (node.IsSequence()) {
+    for (std::size_t k = 0; k < node.size(); ++k)
+      substitute_all(node[k], path + "." + std::to_string(k), parameters, names, file);
+  } else if (node.IsMap()) {
+    for (auto kv : node) {
+      const std::string key = kv.first.as<std::string>();
+      substitute_all(kv.second, path.empty() ? key : path + "." + key, parameters, names, file);
+    }
+  }
+}
+
+}  // namespace
+
+Override parse_override(std::string_view text) {
+  const std::size_t eq = text.find('=');
+  auto fail = [&](const std::string& problem) {
+    return InputError("'" + std::string(text) + "': " + problem + "; expected path.to.key=value").with_key("--set");
+  };
+  if (eq == std::string_view::npos) throw fail("no '='");
+  Override o{std::string(text.substr(0, eq)), std::string(text.substr(eq + 1))};
+  for (const std::string& seg : split_path(o.path)) {
+    if (seg.empty()) throw fail("an empty key in the path");
+  }
+  return o;
+}
+
+int line_of(const YAML::Node& node) {
+  const YAML::Mark mark = node.Mark();
+  return mark.is_null() ? 0 : mark.line + 1;
+}
+
+ScenarioDocument parse_scenario_document(const std::string& text, const std::string& source,
+                                         std::span<const Override> overrides) {
+  ScenarioDocument doc{source, {}, {overrides.begin(), overrides.end()}, {}};
+  try {
+    doc.root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError("not valid YAML: " + e.msg).at(source, e.mark.is_null() ? 0 : e.mark.line + 1);
+  }
+  if (!doc.root.IsMap())
+    throw InputError("a scenario is a map of sections (materials:, parts:, stages:, ...)").at(source, 1);
+  for (const Override& o : overrides) apply(doc.root, o);
+
+  std::vector<std::string> names;
+  if (const YAML::Node params = doc.root["parameters"]) {
+    if (!params.IsMap()) {
+      throw InputError("expected a map of name: default value").with_key("parameters").at(source, line_of(params));
+    }
+    for (const auto& kv : params) {
+      const std::string name = kv.first.as<std::string>();
+      if (!kv.second.IsScalar() || kv.second.Scalar().find("${") != std::string::npos) {
+        throw InputError("a parameter's value is a single value without ${...}")
+            .with_key("parameters." + name)
+            .at(source, line_of(kv.second));
+      }
+      doc.parameters[name] = kv.second.Scalar();
+      names.push_back(name);
+    }
+  }
+  for (auto kv : doc.root) {
+    const std::string key = kv.first.as<std::string>();
+    if (key != "parameters") substitute_all(kv.second, key, doc.parameters, names, source);
+  }
+  return doc;
+}
+
+ScenarioDocument load_scenario_document(const std::string& path, std::span<const Override> overrides) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot read the scenario file").at(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scenario_document(text.str(), path, overrides);
+}
+
+}  // namespace bushel

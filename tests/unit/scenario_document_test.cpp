@@ -1,0 +1,134 @@
+#include "bushel/scenario/scenario_document.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "bushel/core/input_error.hpp"
+#include "temp_dir_test.hpp"
+
+namespace bushel {
+namespace {
+
+const char* const cup = R"(parameters:
+  scale: 1
+  drop: 5.1 cm
+materials:
+  wheat:
+    density: 1373 kg/m3
+factories:
+  - mass: ${scale} kg
+    height: ${drop} above ${drop}
+stages:
+  - name: fill
+    time: 1 s
+  - name: settle
+    time: 0.5 s
+)";
+
+// The error a call throws (fails the test if none).
+template <class F>
+InputError error_of(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InputError";
+  return InputError("none");
+}
+
+TEST(ScenarioDocument, SubstitutesParametersKeepingLines) {
+  const ScenarioDocument doc = parse_scenario_document(cup, "cup.yaml");
+  EXPECT_EQ(doc.root["factories"][0]["mass"].as<std::string>(), "1 kg");
+  EXPECT_EQ(doc.root["factories"][0]["height"].as<std::string>(), "5.1 cm above 5.1 cm");
+  EXPECT_EQ(line_of(doc.root["factories"][0]["mass"]), 8);
+  EXPECT_EQ(line_of(doc.root["stages"][1]["time"]), 14);
+  EXPECT_EQ(doc.parameters.at("drop"), "5.1 cm");
+  EXPECT_EQ(doc.root["parameters"]["scale"].as<std::string>(), "1");  // the section itself is kept
+}
+
+TEST(ScenarioDocument, OverridesParametersValuesListItemsAndNewKeys) {
+  const std::vector<Override> sets = {
+      parse_override("parameters.scale=0.1"), parse_override("materials.wheat.density=1400 kg/m3"),
+      parse_override("stages.1.time=2 s"), parse_override("materials.wheat.poisson=0.3"),
+      parse_override("materials.wheat.density=1410 kg/m3")};
+  const ScenarioDocument doc = parse_scenario_document(cup, "cup.yaml", sets);
+  EXPECT_EQ(doc.root["factories"][0]["mass"].as<std::string>(), "0.1 kg");
+  EXPECT_EQ(doc.root["materials"]["wheat"]["density"].as<std::string>(), "1410 kg/m3");  // the last wins
+  EXPECT_EQ(doc.root["stages"][1]["time"].as<std::string>(), "2 s");
+  EXPECT_EQ(doc.root["stages"][0]["time"].as<std::string>(), "1 s");
+  EXPECT_EQ(doc.root["materials"]["wheat"]["poisson"].as<std::string>(), "0.3");
+  EXPECT_EQ(line_of(doc.root["stages"][1]["time"]), 0);  // from the command line
+  EXPECT_EQ(doc.overrides.size(), sets.size());
+  EXPECT_EQ(doc.parameters.at("scale"), "0.1");
+}
+
+TEST(ScenarioDocument, ParsesOverrides) {
+  const Override o = parse_override("a.b=x=1 kg");
+  EXPECT_EQ(o.path, "a.b");
+  EXPECT_EQ(o.value, "x=1 kg");
+  EXPECT_EQ(error_of([] { parse_override("a.b"); }).key(), "--set");
+  EXPECT_NE(std::string(error_of([] { parse_override("a..b=1"); }).what()).find("empty key"), std::string::npos);
+  EXPECT_NE(std::string(error_of([] { parse_override("=1"); }).what()).find("empty key"), std::string::npos);
+}
+
+TEST(ScenarioDocument, BadOverridesSayWhereThePathBreaks) {
+  auto message = [](const char* set) {
+    const std::vector<Override> sets = {parse_override(set)};
+    return std::string(error_of([&] { parse_scenario_document(cup, "cup.yaml", sets); }).what());
+  };
+  EXPECT_NE(message("materials.wheet.density=1").find("no key 'wheet' (did you mean 'wheat'?)"), std::string::npos);
+  EXPECT_NE(message("stages.2.time=1 s").find("'stages' is a list of 2"), std::string::npos);
+  EXPECT_NE(message("stages.x.time=1 s").find("not an index"), std::string::npos);
+  EXPECT_NE(message("materials.wheat=1").find("is a map; only single values"), std::string::npos);
+  EXPECT_NE(message("materials.wheat.density.x=1").find("is a single value"), std::string::npos);
+  EXPECT_NE(message("stages=1").find("is a list"), std::string::npos);
+  EXPECT_NE(message("stages=1").find("command line"), std::string::npos);
+}
+
+TEST(ScenarioDocument, BadReferencesNameFileLineAndKey) {
+  const std::string text = "parameters:\n  scale: 1\nfactories:\n  - mass: ${scal} kg\n";
+  const InputError e = error_of([&] { parse_scenario_document(text, "cup.yaml"); });
+  EXPECT_EQ(e.source(), "cup.yaml");
+  EXPECT_EQ(e.line(), 4);
+  EXPECT_EQ(e.key(), "factories.0.mass");
+  EXPECT_NE(std::string(e.what()).find("unknown parameter 'scal' (did you mean 'scale'?)"), std::string::npos);
+
+  const InputError open = error_of([] { parse_scenario_document("a:\n  b: ${x\n", "s.yaml"); });
+  EXPECT_EQ(open.line(), 2);
+  EXPECT_NE(std::string(open.what()).find("without its closing"), std::string::npos);
+  const InputError nested = error_of([] { parse_scenario_document("parameters:\n  a: ${b}\n  b: 1\n", "s.yaml"); });
+  EXPECT_EQ(nested.key(), "parameters.a");
+  EXPECT_EQ(nested.line(), 2);
+  const InputError none = error_of([] { parse_scenario_document("a: ${b}\n", "s.yaml"); });
+  EXPECT_NE(std::string(none.what()).find("declares none"), std::string::npos);
+}
+
+TEST(ScenarioDocument, BadFilesAndSyntax) {
+  const InputError syntax = error_of([] { parse_scenario_document("a: [1, 2\nb: 3\n", "s.yaml"); });
+  EXPECT_EQ(syntax.source(), "s.yaml");
+  EXPECT_GT(syntax.line(), 0);
+  EXPECT_NE(std::string(syntax.what()).find("not valid YAML"), std::string::npos);
+  EXPECT_NE(
+      std::string(error_of([] { parse_scenario_document("- 1\n- 2\n", "s.yaml"); }).what()).find("map of sections"),
+      std::string::npos);
+  EXPECT_NE(std::string(error_of([] { load_scenario_document("/nonexistent/cup.yaml"); }).what()).find("cannot read"),
+            std::string::npos);
+}
+
+class ScenarioFile : public TempDirTest {};
+
+TEST_F(ScenarioFile, ReadsTheFileWithOverrides) {
+  const std::string file = path("cup.yaml");
+  std::ofstream(file) << cup;
+  const ScenarioDocument doc =
+      load_scenario_document(file, std::vector<Override>{parse_override("parameters.drop=1 m")});
+  EXPECT_EQ(doc.file, file);
+  EXPECT_EQ(doc.root["factories"][0]["height"].as<std::string>(), "1 m above 1 m");
+}
+
+}  // namespace
+}  // namespace bushel
