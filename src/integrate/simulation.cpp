@@ -41,6 +41,16 @@ struct LaneExtra {
   double arm_i_len, inertia_r, mu_r;
 };
 
+// Lane k's coefficients, in a pair batch or a contact batch.
+template <class Batch>
+void store_coefficients(Batch& b, int k, const PairCoefficients& c) {
+  b.youngs_modulus[k] = c.youngs_modulus;
+  b.stiffness_ratio[k] = c.stiffness_ratio;
+  b.root_stiffness_ratio[k] = c.root_stiffness_ratio;
+  b.damping[k] = c.damping;
+  b.static_friction[k] = c.static_friction;
+}
+
 struct PartLanes {
   ContactBatch batch;
   std::array<LaneExtra, ContactBatch::capacity> extra;
@@ -57,11 +67,7 @@ struct PartLanes {
     b.vx[k] = v_rel.x, b.vy[k] = v_rel.y, b.vz[k] = v_rel.z;
     b.r_star[k] = r_star;
     b.m_star[k] = m_star;
-    b.youngs_modulus[k] = c.youngs_modulus;
-    b.stiffness_ratio[k] = c.stiffness_ratio;
-    b.root_stiffness_ratio[k] = c.root_stiffness_ratio;
-    b.damping[k] = c.damping;
-    b.static_friction[k] = c.static_friction;
+    store_coefficients(b, k, c);
     const double* history = extra[static_cast<std::size_t>(k)].history;
     b.xi_x[k] = history[0], b.xi_y[k] = history[1], b.xi_z[k] = history[2];
   }
@@ -80,13 +86,8 @@ struct PairLanes {
 // 0's, and elements that are not at their bodies' centres of mass.
 [[gnu::noinline, gnu::cold]] void set_coefficients(PairLanes& pl, const PairCoefficients* coefficients) {
   PairBatch& b = pl.batch;
-  for (int k = 0; k < b.size; ++k) {
-    const PairCoefficients& co = coefficients[pl.coefficient[static_cast<std::size_t>(k)]];
-    b.youngs_modulus[k] = co.youngs_modulus;
-    b.stiffness_ratio[k] = co.stiffness_ratio;
-    b.root_stiffness_ratio[k] = co.root_stiffness_ratio;
-    b.damping[k] = co.damping;
-    b.static_friction[k] = co.static_friction;
+  for (int k = 1; k < b.size; ++k) {  // (lane 0's are set already)
+    store_coefficients(b, k, coefficients[pl.coefficient[static_cast<std::size_t>(k)]]);
   }
 }
 [[gnu::noinline, gnu::cold]] void set_offsets(PairLanes& pl, std::span<const Vec3> x_el, std::span<const Vec3> x_b,
@@ -269,12 +270,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     pb.size = n;
     pb.centred = lone;
     pb.uniform = uniform;
-    const PairCoefficients& c0 = coefficient_data[co0];
-    pb.youngs_modulus[0] = c0.youngs_modulus;
-    pb.stiffness_ratio[0] = c0.stiffness_ratio;
-    pb.root_stiffness_ratio[0] = c0.root_stiffness_ratio;
-    pb.damping[0] = c0.damping;
-    pb.static_friction[0] = c0.static_friction;
+    store_coefficients(pb, 0, coefficient_data[co0]);
     if (!uniform) set_coefficients(pl, coefficient_data);
     if (!lone) set_offsets(pl, x_el, x_b, owner, sphere_count, second);
     finish_pairs();
