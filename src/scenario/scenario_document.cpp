@@ -4,6 +4,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "bushel/core/did_you_mean.hpp"
 #include "bushel/core/input_error.hpp"
 
@@ -45,14 +47,15 @@ void apply(YAML::Node root, const Override& o) {
     return InputError("--set " + o.path + ": " + problem).at(command_line);
   };
   YAML::Node node = root;
-  std::string walked = "the scenario";
+  std::string prefix, walked = "the scenario";  // the path so far, and how errors name it
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const std::string& seg = segments[s];
     const bool last = s + 1 == segments.size();
     YAML::Node child;
     bool exists = true;
+    long k = -1;  // the list index, where node is a list
     if (node.IsSequence()) {
-      const long k = index_of(seg);
+      k = index_of(seg);
       if (k < 0 || static_cast<std::size_t>(k) >= node.size()) {
         throw fail(walked + " is a list of " + std::to_string(node.size()) + "; '" + seg +
                    "' is not an index into it (from 0)");
@@ -70,16 +73,16 @@ void apply(YAML::Node root, const Override& o) {
         throw fail("'" + o.path + "' is a " + (child.IsMap() ? "map" : "list") + "; only single values can be set");
       }
       if (node.IsSequence()) {
-        node[static_cast<std::size_t>(index_of(seg))] = YAML::Node(o.value);
+        node[static_cast<std::size_t>(k)] = YAML::Node(o.value);
       } else {
         node[seg] = YAML::Node(o.value);
       }
       return;
     }
     node.reset(child);
-    walked = "'";
-    for (std::size_t k = 0; k <= s; ++k) walked += (k ? "." : "") + segments[k];
-    walked += "'";
+    if (s > 0) prefix += '.';
+    prefix += seg;
+    walked = "'" + prefix + "'";
   }
 }
 
@@ -134,7 +137,7 @@ void substitute_all(YAML::Node node, const std::string& path, const std::map<std
 Override parse_override(std::string_view text) {
   const std::size_t eq = text.find('=');
   auto fail = [&](const std::string& problem) {
-    return InputError("'" + std::string(text) + "': " + problem + "; expected path.to.key=value").with_key("--set");
+    return InputError(fmt::format("'{}': {}; expected path.to.key=value", text, problem)).with_key("--set");
   };
   if (eq == std::string_view::npos) throw fail("no '='");
   Override o{std::string(text.substr(0, eq)), std::string(text.substr(eq + 1))};
