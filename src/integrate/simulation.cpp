@@ -7,6 +7,7 @@
 #include <memory>
 #include <numeric>
 #include <span>
+#include <stdexcept>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -528,6 +529,29 @@ void Simulation::prepare() {
   second_direct_.resize(n_s);
   element_moved2_.resize(n_s, 0.0);  // a build is due for new elements anyway (size change)
   particles_.update_sphere_positions();
+}
+
+void Simulation::remove_bodies(std::span<const std::size_t> bodies) {
+  if (bodies.empty()) return;
+  const std::size_t n = particles_.bodies();
+  std::vector<std::uint8_t> gone(n, 0);
+  for (const std::size_t b : bodies) {
+    if (b >= n || gone[b]) throw std::out_of_range("Simulation::remove_bodies: bad or repeated body index");
+    gone[b] = 1;
+  }
+  std::vector<std::uint32_t> keep;
+  keep.reserve(n - bodies.size());
+  for (std::size_t b = 0; b < n; ++b) {
+    if (!gone[b]) keep.push_back(static_cast<std::uint32_t>(b));
+  }
+  particles_.permute(keep);  // a permutation onto a subset drops the rest
+  // The neighbour list and the part candidates index elements: both are found again now
+  // (their histories follow the stable ids), so that what reads them between steps (a
+  // sensor) sees the bodies that remain; the stored forces belong to the old bodies.
+  prepare();
+  rebuild();
+  rebuild_due_ = -1;
+  forces_valid_ = false;
 }
 
 void Simulation::spatial_sort() {

@@ -80,6 +80,7 @@ std::vector<std::uint32_t> ParticleSystem::permute(std::span<const std::uint32_t
   apply(offset, sphere_order);
   apply(sphere_position, sphere_order);
   apply(radius, sphere_order);
+  owner.resize(sphere_order.size());  // fewer elements when `order` keeps a subset
   for (std::size_t b = 0; b < bodies(); ++b) {
     for (std::uint32_t k = 0; k < sphere_count[b]; ++k) owner[first_sphere[b] + k] = static_cast<std::uint32_t>(b);
   }

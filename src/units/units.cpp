@@ -76,6 +76,7 @@ const std::vector<Unit>& known_units() {
       {"min", 60.0, dim::time},
       {"h", 3600.0, dim::time},
       {"Hz", 1.0, dim::frequency},
+      {"/s", 1.0, dim::frequency},  // a rate of events: "500 /s" particles per second
       {"m/s", 1.0, dim::velocity},
       {"cm/s", 1e-2, dim::velocity},
       {"mm/s", 1e-3, dim::velocity},
@@ -85,6 +86,10 @@ const std::vector<Unit>& known_units() {
       {"lb/bu", pound_kg / bushel_m3, dim::density},
       {"kg/s", 1.0, dim::mass_flow},
       {"g/s", 1e-3, dim::mass_flow},
+      {"J", 1.0, dim::energy},
+      {"mJ", 1e-3, dim::energy},
+      {"uJ", 1e-6, dim::energy},
+      {"nJ", 1e-9, dim::energy},
       {"N", 1.0, dim::force},
       {"kN", 1e3, dim::force},
       {"Pa", 1.0, dim::pressure},
@@ -117,6 +122,7 @@ std::string dimension_name(Dimension d) {
       {dim::mass_flow, "mass flow rate"},
       {dim::force, "force"},
       {dim::pressure, "pressure"},
+      {dim::energy, "energy"},
       {dim::angle, "angle"},
       {dim::angular_velocity, "angular velocity"},
   };
@@ -140,8 +146,10 @@ double parse(std::string_view text, Dimension expected) {
   const std::string what = dimension_name(expected);
   auto fail = [&](const std::string& why) -> InputError {
     const std::string accepted = accepted_units(expected);
-    return InputError("expected a " + what + (accepted.empty() ? "" : " with a unit (" + accepted + ")") + ", got '" +
-                      std::string(text) + "'" + why);
+    const char* article = std::string_view("aeiou").find(what.front()) != std::string_view::npos ? "an " : "a ";
+    return InputError(std::string("expected ") + article + what +
+                      (accepted.empty() ? "" : " with a unit (" + accepted + ")") + ", got '" + std::string(text) +
+                      "'" + why);
   };
   std::pair<double, std::string_view> parts;
   try {

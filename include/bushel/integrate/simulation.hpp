@@ -14,6 +14,7 @@
 //   5. move the geometry parts (motion.hpp), servos acting on the forces of step 2
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,11 @@ class Simulation {
   void set_motion(std::size_t i, Motion motion);
   /// Faces of a part in the world at its current pose, as triangles (for export).
   TriangleMesh part_surface(std::size_t i, int segments = 64, double plane_half_size = 0.1) const;
+
+  /// Removes bodies (indices into particles(), any order, no repeats) with their elements.
+  /// The others keep their contacts and contact history (keyed by stable ids); the next step
+  /// rebuilds the neighbour list.
+  void remove_bodies(std::span<const std::size_t> bodies);
 
   /// Advances `n` steps.
   void step(std::uint64_t n = 1);

@@ -60,7 +60,8 @@ class ParticleSystem {
       placed(s, p);
     }
   }
-  /// Reorders bodies (and their elements, contiguously) to `order` (new index -> old index).
+  /// Reorders bodies (and their elements, contiguously) to `order` (new index -> old index);
+  /// bodies missing from `order` are dropped.
   /// Returns the sphere permutation applied (new sphere index -> old sphere index).
   std::vector<std::uint32_t> permute(std::span<const std::uint32_t> order);
 

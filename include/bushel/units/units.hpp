@@ -34,6 +34,7 @@ inline constexpr Dimension density{-3, 1, 0, 0};
 inline constexpr Dimension mass_flow{0, 1, -1, 0};
 inline constexpr Dimension force{1, 1, -2, 0};
 inline constexpr Dimension pressure{-1, 1, -2, 0};
+inline constexpr Dimension energy{2, 1, -2, 0};
 inline constexpr Dimension angle{0, 0, 0, 1};
 inline constexpr Dimension angular_velocity{0, 0, -1, 1};
 }  // namespace dim

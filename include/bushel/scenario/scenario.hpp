@@ -1,0 +1,97 @@
+#pragma once
+// A scenario read and validated: everything a run needs, in SI, with every name resolved
+// to an index. read_scenario checks the whole file before a single step runs (docs/
+// scenarios.md lists the sections and keys); an error names the file, line and key.
+
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bushel/geometry/part.hpp"
+#include "bushel/geometry/region.hpp"
+#include "bushel/insertion/factory.hpp"
+#include "bushel/integrate/simulation.hpp"
+#include "bushel/scenario/scenario_document.hpp"
+
+namespace bushel {
+
+struct SensorSpec {
+  enum class Kind { region, part, heap };
+  std::string name;
+  Kind kind = Kind::region;
+  Region region;         ///< region sensors
+  std::size_t part = 0;  ///< part sensors: index of the part
+  Vec3 axis{0, 0, -1};   ///< part sensors: the force is measured along this unit vector
+  double area = 0.0;     ///< part sensors: pressure = force / area [m2]; 0 = no pressure
+  Vec3 centre;           ///< heap: a point on the vertical axis [m]
+  double outer = 0.0;    ///< heap: outer radius [m]
+  int rings = 20;        ///< heap: number of rings
+  /// The names of its values ("bulk_density", ...), without the sensor's name.
+  std::vector<std::string> values(const std::vector<std::string>& type_names) const;
+};
+
+struct SinkSpec {
+  std::string name;
+  Region region;
+  bool enabled = true;  ///< at the start of the run
+};
+
+/// One stage of a run: what it switches on or off and starts moving, and when it ends (the
+/// first condition met; the report says which).
+struct StageSpec {
+  std::string name;
+  std::vector<std::pair<std::size_t, bool>> factories;  ///< factory index, enabled
+  std::vector<std::pair<std::size_t, bool>> sinks;      ///< sink index, enabled
+  std::vector<std::pair<std::size_t, Motion>> motions;  ///< part index, motion (times from the stage start)
+  // --- end conditions ------------------------------------------------------------------------
+  std::optional<double> duration;                             ///< ends after this time [s]
+  std::optional<double> kinetic_energy;                       ///< ... when the kinetic energy per particle is below [J]
+  bool factories_done = false;                                ///< ... when every factory enabled in it is done
+  std::optional<std::size_t> servo_part;                      ///< ... when this part's servo has held its force
+  double servo_hold = 0.0;                                    ///<     for this long [s]
+  std::optional<std::string> stable;                          ///< ... when this value ("sensor.value") is stable:
+  double stable_tolerance = 0.01;                             ///<     its relative change stays below this [-]
+  double stable_window = 0.05;                                ///<     over this time [s]
+  double min_time = 0.0;                                      ///< no condition but max_time ends it earlier [s]
+  double max_time = std::numeric_limits<double>::infinity();  ///< it ends at the latest after this [s]
+};
+
+struct OutputSpec {
+  double series_interval = 0.01;    ///< timeseries.csv row interval [s]
+  std::vector<std::string> series;  ///< its columns ("cup.bulk_density"); empty = all values
+  double frame_interval = 0.0;      ///< ParaView frames interval [s]; 0 = none
+};
+
+struct Scenario {
+  ScenarioDocument document;        ///< the file with its overrides, for the summary
+  SimulationSettings settings;      ///< dt filled in from the time step
+  double time_step_fraction = 0.0;  ///< of the smallest element's Rayleigh step, if given so [-]
+  double rayleigh_step = 0.0;       ///< of the smallest element [s]
+  std::vector<ParticleType> types;
+  std::vector<Part> parts;
+  std::vector<FactorySpec> factories;  ///< types index `types`
+  std::vector<bool> factory_enabled;   ///< at the start of the run
+  std::vector<SinkSpec> sinks;
+  Region domain;  ///< particles outside are removed as lost
+  std::vector<SensorSpec> sensors;
+  std::vector<StageSpec> stages;
+  OutputSpec outputs;
+  double check_interval = 1e-3;  ///< factories, sinks and stage conditions act this often [s]
+  int threads = 0;               ///< 0 = OpenMP's default
+  /// Every value the run can report: globals, then each sensor's ("cup.bulk_density").
+  std::vector<std::string> value_names() const;
+};
+
+/// Reads and validates a scenario. Throws InputError (file, line, key) for unknown keys,
+/// missing keys, wrong units, sizes that are not positive, parameters out of their physical
+/// range, unknown names, and geometry, factories or sensors that do not fit in the domain.
+Scenario read_scenario(ScenarioDocument document);
+
+/// The global values every run reports.
+const std::vector<std::string>& global_value_names();
+
+}  // namespace bushel

@@ -1,0 +1,46 @@
+#pragma once
+// Runs a validated scenario: its stages in order, factories and sinks acting every check
+// interval, stage conditions checked as often, and the outputs written into one folder:
+//   summary.json    the scenario echo (with its overrides), each stage's end values and
+//                   what ended it, what the factories created and the sinks removed, dt,
+//                   steps, wall time, particle-steps per second, warnings (written atomically)
+//   timeseries.csv  the chosen values at the chosen interval
+//   frames/         ParaView frames (particles and geometry, .vtu + .pvd), if asked for
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bushel/scenario/scenario.hpp"
+
+namespace bushel {
+
+struct RunOptions {
+  std::string out_dir;            ///< created if missing
+  int threads = 0;                ///< 0: the scenario's setting
+  bool progress = true;           ///< a progress line on stderr
+  double progress_interval = 10;  ///< wall seconds between plain progress lines (not a terminal) [s]
+};
+
+struct StageReport {
+  std::string name;
+  std::string ended_by;           ///< time, kinetic_energy, factories_done, servo_held, stable or max_time
+  double start = 0.0, end = 0.0;  ///< [s]
+  std::uint64_t steps = 0;
+  std::vector<std::pair<std::string, double>> values;  ///< every value at the stage's end
+};
+
+struct RunReport {
+  std::vector<StageReport> stages;
+  std::uint64_t steps = 0;
+  double simulated_time = 0.0;  ///< [s]
+  double wall_time = 0.0;       ///< [s]
+  double particle_steps = 0.0;  ///< sum over steps of the particle count
+  std::vector<std::string> warnings;
+};
+
+/// Runs the scenario and writes its outputs; returns what summary.json holds.
+RunReport run_scenario(const Scenario& scenario, const RunOptions& options);
+
+}  // namespace bushel

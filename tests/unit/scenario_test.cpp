@@ -1,0 +1,197 @@
+// Scenario files: validation errors name the file, line and key; a small run writes its
+// summary, time series and frames, and its stages end on the conditions they name.
+#include "bushel/scenario/scenario.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "bushel/core/input_error.hpp"
+#include "bushel/io/csv.hpp"
+#include "bushel/scenario/scenario_run.hpp"
+#include "temp_dir_test.hpp"
+
+namespace bushel {
+namespace {
+
+// A small scenario: 300 spheres poured into a cylindrical cup with a sink under it.
+const std::string small = R"(parameters:
+  count: 300
+simulation:
+  time_step: 0.2 rayleigh
+  domain: {min: -40 -40 -30 mm, max: 40 40 120 mm}
+materials:
+  wheat: {shear_modulus: 22.4 MPa, poisson_ratio: 0.22, density: 1373 kg/m3}
+  steel: {shear_modulus: 37 GPa, poisson_ratio: 0.25, density: 8560 kg/m3}
+particle_types:
+  grain: {diameter: 3.64 mm, material: wheat}
+contacts:
+  default: {restitution: 0.5, static_friction: 0.27, rolling_friction: 0.01}
+parts:
+  cup: {shape: cylinder, radius: 15 mm, height: 40 mm, side: inside, cap_bottom: true, material: steel}
+factories:
+  pour:
+    region: {shape: box, centre: 0 0 60 mm, size: 24 24 30 mm}
+    count: ${count}
+    types: grain
+    velocity: 0 0 -0.3 m/s
+sinks:
+  under: {region: {shape: box, centre: 0 0 -20 mm, size: 80 80 20 mm}}
+sensors:
+  cup: {kind: region, region: {shape: cylinder, radius: 15 mm, height: 10 mm}}
+  bottom: {kind: part, part: cup, axis: 0 0 -1, area: 706.86 mm2}
+stages:
+  - name: fill
+    until: {factories_done: true, max_time: 0.1 s}
+  - name: settle
+    until: {kinetic_energy: 1 nJ, min_time: 20 ms, max_time: 0.3 s}
+outputs:
+  timeseries: {interval: 10 ms}
+  frames: {interval: 50 ms}
+)";
+
+Scenario read(const std::string& text, std::vector<Override> overrides = {}) {
+  return read_scenario(parse_scenario_document(text, "s.yaml", overrides));
+}
+
+// The message of the InputError that reading `text` with `overrides` throws.
+std::string error_of(const std::string& text, std::vector<Override> overrides = {}) {
+  try {
+    read(text, overrides);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(Scenario, ReadsEverySectionInSI) {
+  const Scenario sc = read(small);
+  ASSERT_EQ(sc.types.size(), 1u);
+  EXPECT_NEAR(sc.types[0].shape.spheres[0].radius, 1.82e-3, 1e-15);
+  EXPECT_NEAR(sc.settings.dt, 0.2 * sc.rayleigh_step, 1e-18);
+  ASSERT_EQ(sc.parts.size(), 1u);
+  EXPECT_NEAR(std::get<CylinderSpec>(sc.parts[0].shape).radius, 0.015, 1e-15);
+  ASSERT_EQ(sc.factories.size(), 1u);
+  EXPECT_FALSE(sc.factories[0].total_by_mass);
+  EXPECT_EQ(sc.factories[0].total, 300.0);
+  EXPECT_NEAR(sc.factories[0].velocity.z, -0.3, 1e-15);
+  ASSERT_EQ(sc.stages.size(), 2u);
+  EXPECT_TRUE(sc.stages[0].factories_done);
+  EXPECT_NEAR(*sc.stages[1].kinetic_energy, 1e-9, 1e-24);
+  EXPECT_NEAR(sc.stages[1].min_time, 0.02, 1e-15);
+  EXPECT_NEAR(sc.sensors[1].area, 7.0686e-4, 1e-15);
+  // --set reaches any value, and parameters
+  const Scenario big =
+      read(small, {parse_override("parameters.count=300"), parse_override("simulation.time_step=1 us")});
+  EXPECT_EQ(big.factories[0].total, 300.0);
+  EXPECT_NEAR(big.settings.dt, 1e-6, 1e-18);
+}
+
+TEST(Scenario, ErrorsNameTheFileLineAndKey) {
+  EXPECT_NE(error_of(replaced(small, "shear_modulus: 22.4 MPa", "shear_modulus: 22.4 mm"))
+                .find("s.yaml:7: key 'materials.wheat.shear_modulus': expected a pressure"),
+            std::string::npos)
+      << error_of(replaced(small, "shear_modulus: 22.4 MPa", "shear_modulus: 22.4 mm"));
+  EXPECT_NE(error_of(replaced(small, "static_friction: 0.27", "static_fricton: 0.27"))
+                .find("unknown key 'static_fricton' (did you mean 'static_friction'?)"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(small, "types: grain", "types: grainn"))
+                .find("s.yaml:19: key 'factories.pour.types': "
+                      "unknown particle type 'grainn' (did you "
+                      "mean 'grain'?)"),
+            std::string::npos)
+      << error_of(replaced(small, "types: grain", "types: grainn"));
+  EXPECT_NE(error_of(replaced(small, "size: 24 24 30 mm", "size: 24 24 -30 mm")).find("expected positive edge lengths"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(small, "height: 40 mm", "height: 140 mm")).find("outside the domain"), std::string::npos);
+  EXPECT_NE(error_of(replaced(small, "poisson_ratio: 0.22", "poisson_ratio: 0.7")).find("poisson"), std::string::npos);
+  EXPECT_NE(error_of(replaced(small, "time_step: 0.2 rayleigh", "time_step: 1 ms")).find("above the Rayleigh step"),
+            std::string::npos);
+  // a value set on the command line is named as such; a parameter at the line that uses it
+  EXPECT_NE(error_of(small, {parse_override("factories.pour.count=12.5")})
+                .find("command line (--set): key 'factories.pour.count': expected a whole number"),
+            std::string::npos)
+      << error_of(small, {parse_override("factories.pour.count=12.5")});
+  EXPECT_NE(error_of(small, {parse_override("parameters.count=0")}).find("s.yaml:18: key 'factories.pour.count'"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(small, "kinetic_energy: 1 nJ", "kinetic_energy: 1 nN")).find("expected an energy"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(small, "  - name: fill\n    until: {factories_done: true, max_time: 0.1 s}",
+                              "  - name: fill\n    until: {factories_done: true}"))
+                .find("every stage needs a time limit"),
+            std::string::npos);
+}
+
+class ScenarioRun : public TempDirTest {};
+
+TEST_F(ScenarioRun, FillsSettlesAndWritesItsOutputs) {
+  const Scenario sc = read(small);
+  RunOptions o;
+  o.out_dir = path("out");
+  o.progress = false;
+  const RunReport r = run_scenario(sc, o);
+  ASSERT_EQ(r.stages.size(), 2u);
+  EXPECT_EQ(r.stages[0].ended_by, "factories_done");
+  EXPECT_EQ(r.stages[1].ended_by, "kinetic_energy");
+  EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
+
+  std::ifstream in(path("out/summary.json"));
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["factories"][0]["count"], 300);
+  EXPECT_EQ(j["stages"][1]["ended_by"], "kinetic_energy");
+  const auto& end = j["final"];
+  // All the grain is in the cup (30 mm wide) or spilled into the sink; the lower 10 mm of the
+  // cup holds a random packing of spheres: packing fraction 0.5 to 0.64.
+  const double in_cup = end["particles"].get<double>();
+  EXPECT_EQ(in_cup + j["sinks"][0]["count"].get<double>(), 300.0);
+  EXPECT_GT(end["cup.packing_fraction"].get<double>(), 0.45);
+  EXPECT_LT(end["cup.packing_fraction"].get<double>(), 0.66);
+  EXPECT_NEAR(end["cup.bulk_density"].get<double>(), end["cup.packing_fraction"].get<double>() * 1373.0, 1e-6);
+  // the cup's bottom carries the weight of the grain in it (it is also its walls' sensor)
+  const double weight = in_cup * sc.types[0].mass() * 9.81;
+  EXPECT_NEAR(end["bottom.force"].get<double>(), weight, 0.05 * weight);
+  EXPECT_GT(end["cup.coordination"].get<double>(), 3.0);
+  EXPECT_EQ(end["lost_count"], 0.0);
+
+  const auto table = io::read_text_file(path("out/timeseries.csv"));
+  std::istringstream lines(table);
+  std::string header;
+  std::getline(lines, header);
+  EXPECT_EQ(header.rfind("stage,time,particles,kinetic_energy,", 0), 0u) << header;
+  int rows = 0;
+  for (std::string l; std::getline(lines, l);) ++rows;
+  EXPECT_GE(rows, static_cast<int>(r.simulated_time / 0.01));
+  EXPECT_TRUE(std::filesystem::exists(path("out/frames/particles.pvd")));
+}
+
+TEST_F(ScenarioRun, StagesEndOnTimeAndMoveParts) {
+  // The cup is lifted 5 mm in the second stage, which ends on its time.
+  const std::string text = replaced(small, "  - name: settle\n", R"(  - name: lift
+    motions:
+      cup: [{translate: 0 0 50 mm/s, end: 0.1 s}]
+    until: {time: 0.1 s}
+  - name: settle
+)");
+  const Scenario sc = read(text, {parse_override("parameters.count=20")});
+  RunOptions o;
+  o.out_dir = path("out");
+  o.progress = false;
+  const RunReport r = run_scenario(sc, o);
+  ASSERT_EQ(r.stages.size(), 3u);
+  EXPECT_EQ(r.stages[1].ended_by, "time");
+  EXPECT_NEAR(r.stages[1].end - r.stages[1].start, 0.1, sc.settings.dt);
+  double z = 0.0;
+  for (const auto& [name, v] : r.stages[1].values) z = name == "bottom.position_z" ? v : z;
+  EXPECT_NEAR(z, 0.005, 0.05 * sc.settings.dt + 1e-12);  // (the stage may end within a step of it)
+}
+
+}  // namespace
+}  // namespace bushel
