@@ -19,16 +19,23 @@ void FrameWriter::write(const Simulation& sim) {
   const ParticleSystem& ps = sim.particles();
   VtuPiece particles = point_cloud_piece(ps.sphere_position);
   VtuArray radius{"radius_m", 1, ps.radius}, velocity{"velocity_m_s", 3, {}}, body{"body_id", 1, {}};
+  VtuArray type{"type", 1, {}}, orientation{"orientation_wxyz", 4, {}};  // the clump's, on each element
   velocity.values.reserve(3 * ps.spheres());
   body.values.reserve(ps.spheres());
+  type.values.reserve(ps.spheres());
+  orientation.values.reserve(4 * ps.spheres());
   for (std::size_t s = 0; s < ps.spheres(); ++s) {
     const std::uint32_t b = ps.owner[s];
     // The element's own velocity: the body's plus its spin about the centre of mass.
     const Vec3 v = ps.velocity[b] + cross(ps.angular_velocity[b], ps.sphere_position[s] - ps.position[b]);
     velocity.values.insert(velocity.values.end(), {v.x, v.y, v.z});
     body.values.push_back(ps.body_id[b]);
+    type.values.push_back(ps.body_type[b]);
+    const Quat& q = ps.orientation[b];
+    orientation.values.insert(orientation.values.end(), {q.w, q.x, q.y, q.z});
   }
-  particles.point_data = {std::move(radius), std::move(velocity), std::move(body)};
+  particles.point_data = {std::move(radius), std::move(velocity), std::move(body), std::move(type),
+                          std::move(orientation)};
 
   TriangleMesh all;
   VtuArray part{"part", 1, {}};

@@ -13,7 +13,7 @@ particles.UpdatePipeline(times[-1])
 p = servermanager.Fetch(particles)
 assert p.GetNumberOfPoints() == 150, p.GetNumberOfPoints()
 names = {p.GetPointData().GetArrayName(i) for i in range(p.GetPointData().GetNumberOfArrays())}
-assert {"radius_m", "velocity_m_s", "body_id"} <= names, names
+assert {"radius_m", "velocity_m_s", "body_id", "type", "orientation_wxyz"} <= names, names
 radius = p.GetPointData().GetArray("radius_m").GetRange()
 assert abs(radius[0] - 1.82e-3) < 1e-9 and abs(radius[1] - 1.82e-3) < 1e-9, radius
 
