@@ -2,8 +2,10 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 
+#include "bushel/core/input_error.hpp"
 #include "bushel/scenario/scenario.hpp"
 #include "bushel/scenario/scenario_run.hpp"
 #include "commands.hpp"
@@ -12,9 +14,10 @@ namespace bushel::cli {
 namespace {
 
 struct RunCommandOptions {
-  std::string scenario, out;
+  std::string scenario, out, restart;
   std::vector<std::string> sets;
   int threads = 0;
+  double checkpoint_minutes = 5.0;
   bool quiet = false;
 };
 
@@ -41,19 +44,38 @@ void describe(const Scenario& sc) {
 
 void add_run_command(CLI::App& app) {
   auto o = std::make_shared<RunCommandOptions>();
-  auto* run = app.add_subcommand("run", "Run a scenario file (docs/scenarios.md)");
-  run->add_option("scenario", o->scenario, "Scenario file (YAML)")->required();
-  run->add_option("--out", o->out, "Output folder (summary.json, timeseries.csv, frames/)")->required();
+  auto* run = app.add_subcommand("run", "Run a scenario file (docs/scenarios.md), or continue one with --restart");
+  run->add_option("scenario", o->scenario, "Scenario file (YAML)");
+  run->add_option("--out", o->out, "Output folder (summary.json, timeseries.csv, frames/, checkpoint.bin)");
+  run->add_option("--restart", o->restart, "Continue the run in this folder from its checkpoint (no scenario)");
   run->add_option("--set", o->sets, "Override a value: path.to.key=value (repeatable)");
   run->add_option("--threads", o->threads, "OpenMP threads (0 = the scenario's setting)")->capture_default_str();
+  run->add_option("--checkpoint-every", o->checkpoint_minutes,
+                  "Minutes of wall time between checkpoints (0: only on Ctrl-C)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   run->add_flag("--quiet", o->quiet, "No progress lines");
   run->callback([o] {
-    const Scenario sc = load(*o);
     RunOptions options;
-    options.out_dir = o->out;
     options.threads = o->threads;
     options.progress = !o->quiet;
-    const RunReport r = run_scenario(sc, options);
+    options.checkpoint_interval = 60.0 * o->checkpoint_minutes;
+    RunReport r;
+    if (!o->restart.empty()) {
+      if (!o->scenario.empty() || !o->out.empty() || !o->sets.empty()) {
+        throw InputError(
+            "--restart DIR continues the run in DIR with its own scenario; give no scenario, --out or --set")
+            .with_key("--restart");
+      }
+      options.out_dir = o->restart;
+      r = resume_scenario(options);
+    } else {
+      if (o->scenario.empty()) throw InputError("expected a scenario file (or --restart DIR)").with_key("scenario");
+      if (o->out.empty()) throw InputError("expected an output folder").with_key("--out");
+      options.out_dir = o->out;
+      r = run_scenario(load(*o), options);
+    }
+    if (r.interrupted) std::exit(130);  // as a shell reports Ctrl-C; the checkpoint is written
     for (const auto& s : r.stages) {
       fmt::print("stage {:<12} ended by {:<15} t = {:.4f} s\n", s.name, s.ended_by, s.end);
     }
@@ -64,7 +86,7 @@ void add_run_command(CLI::App& app) {
     fmt::print("{} steps, {:.3f} s simulated, {:.1f} s wall, {:.3g} particle-steps/s\n", r.steps, r.simulated_time,
                r.wall_time, r.wall_time > 0.0 ? r.particle_steps / r.wall_time : 0.0);
     for (const auto& w : r.warnings) fmt::print("warning: {}\n", w);
-    fmt::print("results in {}/summary.json\n", o->out);
+    fmt::print("results in {}/summary.json\n", options.out_dir);
   });
 
   auto v = std::make_shared<RunCommandOptions>();

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "bushel/core/parallel.hpp"
+#include "bushel/io/binary_archive.hpp"
 
 namespace bushel {
 namespace {
@@ -143,6 +144,34 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
 
   reference_.assign(position.begin(), position.end());
   ++builds_;
+}
+
+void NeighborList::save(io::BinaryWriter& out) const {
+  out.put(skin_);
+  out.put(history_size_);
+  out.put(static_cast<std::uint64_t>(builds_));
+  out.put(reference_);
+  out.put(first_);
+  out.put(second_);
+  out.put(key_);
+  out.put(history_);
+  out.put(first_start_);
+  out.put(second_start_);
+  out.put(as_second_);
+}
+
+void NeighborList::load(io::BinaryReader& in) {
+  in.get(skin_);
+  in.get(history_size_);
+  builds_ = static_cast<std::size_t>(in.get<std::uint64_t>());
+  in.get(reference_);
+  in.get(first_);
+  in.get(second_);
+  in.get(key_);
+  in.get(history_);
+  in.get(first_start_);
+  in.get(second_start_);
+  in.get(as_second_);
 }
 
 }  // namespace bushel

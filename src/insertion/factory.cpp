@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <sstream>
 
 #include <fmt/format.h>
 
 #include "bushel/core/input_error.hpp"
+#include "bushel/io/binary_archive.hpp"
 
 namespace bushel {
 
@@ -150,6 +152,33 @@ std::size_t Factory::run(Simulation& sim, double active) {
     ++made;
   }
   return made;
+}
+
+void Factory::save(io::BinaryWriter& out) const {
+  std::ostringstream rng;
+  rng << rng_;
+  out.put(rng.str());
+  out.put(active_);
+  out.put(report_.count);
+  out.put(report_.mass);
+  out.put(static_cast<std::uint64_t>(report_.total_count));
+  out.put(report_.total_mass);
+  out.put(static_cast<std::uint64_t>(report_.waiting));
+}
+
+void Factory::load(io::BinaryReader& in) {
+  std::istringstream rng(in.get<std::string>());
+  rng >> rng_;
+  if (!rng) throw InputError("the checkpoint's factory state is damaged").with_key(spec_.name);
+  in.get(active_);
+  in.get(report_.count);
+  in.get(report_.mass);
+  report_.total_count = static_cast<std::size_t>(in.get<std::uint64_t>());
+  in.get(report_.total_mass);
+  report_.waiting = static_cast<std::size_t>(in.get<std::uint64_t>());
+  if (report_.count.size() != spec_.types.size() || report_.mass.size() != spec_.types.size()) {
+    throw InputError("the checkpoint's factory has other particle types than the scenario").with_key(spec_.name);
+  }
 }
 
 }  // namespace bushel

@@ -17,6 +17,7 @@
 #include "bushel/core/parallel.hpp"
 #include "bushel/geometry/part_contact.hpp"
 #include "bushel/integrate/rigid_rotation.hpp"
+#include "bushel/io/binary_archive.hpp"
 
 #ifdef BUSHEL_HAVE_OPENMP
 #include <omp.h>
@@ -529,6 +530,122 @@ void Simulation::prepare() {
   second_direct_.resize(n_s);
   element_moved2_.resize(n_s, 0.0);  // a build is due for new elements anyway (size change)
   particles_.update_sphere_positions();
+}
+
+void Simulation::save_state(io::BinaryWriter& out) const {
+  out.put(static_cast<std::uint64_t>(parts_.size()));
+  for (std::size_t w = 0; w < parts_.size(); ++w) {
+    const Part& p = parts_[w];
+    out.put(p.pose);
+    out.put(p.motion.segments);
+    out.put(p.motion.has_servo);
+    out.put(p.motion.servo);
+    out.put(p.force);
+    out.put(p.torque);
+    out.put(p.twist);
+    out.put(p.servo);
+    out.put(static_cast<std::uint64_t>(p.touches));
+    out.put(part_cache_[w].moved);
+  }
+  particles_.save(out);
+  neighbors_.save(out);
+  out.put(pair_force_);
+  out.put(pair_torque_j_);
+  out.put(pair_cdt_j_);
+  out.put(pair_active_);
+  out.put(element_force_);
+  out.put(element_torque_);
+  out.put(element_cdt_);
+  out.put(second_force_);
+  out.put(second_torque_);
+  out.put(second_cdt_);
+  out.put(second_direct_);
+  out.put(chunk_start_);
+  out.put(part_start_);
+  out.put(part_of_candidate_);
+  out.put(sphere_of_candidate_);
+  out.put(candidate_sphere_id_);
+  out.put(candidate_face_start_);
+  out.put(candidate_faces_);
+  out.put(candidate_face_distance_);
+  out.put(element_moved2_);
+  out.put(part_history_);
+  out.put(part_reaction_);
+  out.put(candidate_touches_);
+  out.put(part_partial_);
+  out.put(forces_valid_);
+  out.put(rebuild_due_);
+  out.put(parts_changed_);
+  out.put(direct_team_);
+  out.put(time_);
+  out.put(steps_);
+  out.put(max_overlap_ratio_);
+  out.put(static_cast<std::uint64_t>(forces_parts_));
+  out.put(static_cast<std::uint64_t>(active_build_));
+  out.put(static_cast<std::uint64_t>(direct_build_));
+  out.put(static_cast<std::uint64_t>(contacts_));
+}
+
+void Simulation::load_state(io::BinaryReader& in) {
+  if (in.get<std::uint64_t>() != parts_.size()) {
+    throw InputError("the checkpoint has another number of geometry parts than the scenario");
+  }
+  for (std::size_t w = 0; w < parts_.size(); ++w) {
+    Part& p = parts_[w];
+    in.get(p.pose);
+    in.get(p.motion.segments);
+    in.get(p.motion.has_servo);
+    in.get(p.motion.servo);
+    in.get(p.force);
+    in.get(p.torque);
+    in.get(p.twist);
+    in.get(p.servo);
+    p.touches = static_cast<std::size_t>(in.get<std::uint64_t>());
+    in.get(part_cache_[w].moved);
+    part_cache_[w].rotation = to_matrix(p.pose.orientation);
+  }
+  particles_.load(in);
+  // The derived tables (pair coefficients) and the neighbour list's configuration, then the
+  // saved list and every per-pair and per-element array over them.
+  const std::vector<Vec3> placed = particles_.sphere_position;
+  prepare();
+  particles_.sphere_position = placed;
+  neighbors_.load(in);
+  in.get(pair_force_);
+  in.get(pair_torque_j_);
+  in.get(pair_cdt_j_);
+  in.get(pair_active_);
+  in.get(element_force_);
+  in.get(element_torque_);
+  in.get(element_cdt_);
+  in.get(second_force_);
+  in.get(second_torque_);
+  in.get(second_cdt_);
+  in.get(second_direct_);
+  in.get(chunk_start_);
+  in.get(part_start_);
+  in.get(part_of_candidate_);
+  in.get(sphere_of_candidate_);
+  in.get(candidate_sphere_id_);
+  in.get(candidate_face_start_);
+  in.get(candidate_faces_);
+  in.get(candidate_face_distance_);
+  in.get(element_moved2_);
+  in.get(part_history_);
+  in.get(part_reaction_);
+  in.get(candidate_touches_);
+  in.get(part_partial_);
+  in.get(forces_valid_);
+  in.get(rebuild_due_);
+  in.get(parts_changed_);
+  in.get(direct_team_);
+  in.get(time_);
+  in.get(steps_);
+  in.get(max_overlap_ratio_);
+  forces_parts_ = static_cast<std::size_t>(in.get<std::uint64_t>());
+  active_build_ = static_cast<std::size_t>(in.get<std::uint64_t>());
+  direct_build_ = static_cast<std::size_t>(in.get<std::uint64_t>());
+  contacts_ = static_cast<std::size_t>(in.get<std::uint64_t>());
 }
 
 void Simulation::remove_bodies(std::span<const std::size_t> bodies) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "bushel/core/input_error.hpp"
+#include "bushel/io/binary_archive.hpp"
 #include "bushel/io/vtu.hpp"
 
 namespace bushel::io {
@@ -59,6 +60,30 @@ void FrameWriter::write(const Simulation& sim) {
   geometry_frames_.emplace_back(sim.time(), gname);
   write_pvd(directory_ + "/particles.pvd", frames_);
   write_pvd(directory_ + "/geometry.pvd", geometry_frames_);
+}
+
+void FrameWriter::save(BinaryWriter& out) const {
+  out.put(static_cast<std::uint64_t>(frames_.size()));
+  for (std::size_t k = 0; k < frames_.size(); ++k) {
+    out.put(frames_[k].first);
+    out.put(frames_[k].second);
+    out.put(geometry_frames_[k].first);
+    out.put(geometry_frames_[k].second);
+  }
+}
+
+void FrameWriter::load(BinaryReader& in) {
+  const auto n = in.get<std::uint64_t>();
+  frames_.clear();
+  geometry_frames_.clear();
+  for (std::uint64_t k = 0; k < n; ++k) {
+    const auto t = in.get<double>();
+    const auto name = in.get<std::string>();
+    const auto tg = in.get<double>();
+    const auto gname = in.get<std::string>();
+    frames_.emplace_back(t, name);
+    geometry_frames_.emplace_back(tg, gname);
+  }
 }
 
 }  // namespace bushel::io

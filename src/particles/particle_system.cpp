@@ -2,7 +2,9 @@
 
 #include <stdexcept>
 
+#include "bushel/core/input_error.hpp"
 #include "bushel/core/parallel.hpp"
+#include "bushel/io/binary_archive.hpp"
 
 namespace bushel {
 namespace {
@@ -101,6 +103,79 @@ double ParticleSystem::kinetic_energy() const {
   double e = 0.0;
   for (std::size_t b = 0; b < bodies(); ++b) e += 0.5 * mass[b] * norm2(velocity[b]) + rotational_energy(b);
   return e;
+}
+
+void ParticleSystem::save(io::BinaryWriter& out) const {
+  out.put(static_cast<std::uint64_t>(types_.size()));
+  out.put(next_body_id_);
+  out.put(next_sphere_id_);
+  out.put(body_id);
+  out.put(body_type);
+  out.put(position);
+  out.put(orientation);
+  out.put(velocity);
+  out.put(angular_velocity);
+  out.put(angular_momentum);
+  out.put(force);
+  out.put(torque);
+  out.put(rolling_resistance);
+  out.put(mass);
+  out.put(inertia);
+  out.put(inverse_inertia);
+  out.put(first_sphere);
+  out.put(sphere_count);
+  out.put(sphere_id);
+  out.put(owner);
+  out.put(species);
+  out.put(offset);
+  out.put(radius);
+  out.put(sphere_position);
+}
+
+void ParticleSystem::load(io::BinaryReader& in) {
+  if (in.get<std::uint64_t>() != types_.size()) {
+    throw InputError("the checkpoint has another number of particle types than the scenario");
+  }
+  in.get(next_body_id_);
+  in.get(next_sphere_id_);
+  in.get(body_id);
+  in.get(body_type);
+  in.get(position);
+  in.get(orientation);
+  in.get(velocity);
+  in.get(angular_velocity);
+  in.get(angular_momentum);
+  in.get(force);
+  in.get(torque);
+  in.get(rolling_resistance);
+  in.get(mass);
+  in.get(inertia);
+  in.get(inverse_inertia);
+  in.get(first_sphere);
+  in.get(sphere_count);
+  in.get(sphere_id);
+  in.get(owner);
+  in.get(species);
+  in.get(offset);
+  in.get(radius);
+  in.get(sphere_position);
+  // A damaged file must not index out of bounds later.
+  const std::size_t nb = body_id.size(), ns = sphere_id.size();
+  bool ok = true;
+  for (const std::size_t n :
+       {body_type.size(), position.size(), orientation.size(), velocity.size(), angular_velocity.size(),
+        angular_momentum.size(), force.size(), torque.size(), rolling_resistance.size(), mass.size(), inertia.size(),
+        inverse_inertia.size(), first_sphere.size(), sphere_count.size()}) {
+    ok = ok && n == nb;
+  }
+  for (const std::size_t n : {owner.size(), species.size(), offset.size(), radius.size(), sphere_position.size()}) {
+    ok = ok && n == ns;
+  }
+  for (std::size_t b = 0; ok && b < nb; ++b) {
+    ok = body_type[b] < types_.size() && std::size_t{first_sphere[b]} + sphere_count[b] <= ns;
+  }
+  for (std::size_t s = 0; ok && s < ns; ++s) ok = owner[s] < nb && species[s] < types_.size();
+  if (!ok) throw InputError("the checkpoint's particles are inconsistent (a damaged file?)");
 }
 
 }  // namespace bushel

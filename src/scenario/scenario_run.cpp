@@ -2,6 +2,9 @@
 
 #include <unistd.h>
 
+#include <atomic>
+#include <csignal>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +22,8 @@
 #include "bushel/core/input_error.hpp"
 #include "bushel/insertion/sink.hpp"
 #include "bushel/io/atomic_file.hpp"
+#include "bushel/io/binary_archive.hpp"
+#include "bushel/io/csv.hpp"
 #include "bushel/io/frame_writer.hpp"
 #include "bushel/sensors/heap_profile.hpp"
 #include "bushel/sensors/region_sensor.hpp"
@@ -140,225 +145,493 @@ nlohmann::ordered_json values_json(const std::vector<std::pair<std::string, doub
   return j;
 }
 
+// FNV-1a over the bits of the bodies' state: equal hashes, equal runs (restart, threads).
+std::uint64_t state_hash(const ParticleSystem& ps) {
+  std::uint64_t h = 1469598103934665603ULL;
+  auto mix = [&](const auto& v) {
+    const auto* p = reinterpret_cast<const unsigned char*>(v.data());
+    for (std::size_t i = 0; i < v.size() * sizeof(v[0]); ++i) h = (h ^ p[i]) * 1099511628211ULL;
+  };
+  mix(ps.body_id);
+  mix(ps.position);
+  mix(ps.velocity);
+  mix(ps.angular_momentum);
+  mix(ps.orientation);
+  return h;
+}
+
+constexpr const char* checkpoint_magic = "bushel checkpoint 1";
+
+// Ctrl-C: the run stops at its next check, writes a checkpoint and returns.
+std::atomic<bool> interrupt_requested{false};
+extern "C" void on_interrupt(int) { interrupt_requested.store(true); }
+
+// Where a run stands between checks: enough, with the simulation's state, to continue it.
+struct Position {
+  std::uint64_t stage = 0;                   // index of the current stage
+  bool stage_started = false;                // its actions (switches, motions) are done
+  double t0 = 0.0;                           // its start [s]
+  std::uint64_t steps0 = 0;                  // steps at its start
+  std::vector<double> history_t, history_v;  // the stable condition's samples
+  double next_row = 0.0, next_frame = 0.0;   // [s]
+  double particle_steps = 0.0;
+  double wall_before = 0.0;        // wall time of earlier sittings [s]
+  std::uint64_t series_bytes = 0;  // timeseries.csv up to the last row
+  std::vector<StageReport> done;   // stages finished
+  std::vector<std::string> warnings;
+};
+
+void put(io::BinaryWriter& out, const StageReport& r) {
+  out.put(r.name);
+  out.put(r.ended_by);
+  out.put(r.start);
+  out.put(r.end);
+  out.put(r.steps);
+  out.put(static_cast<std::uint64_t>(r.values.size()));
+  for (const auto& [k, v] : r.values) out.put(k), out.put(v);
+}
+
+StageReport get_report(io::BinaryReader& in) {
+  StageReport r;
+  in.get(r.name);
+  in.get(r.ended_by);
+  in.get(r.start);
+  in.get(r.end);
+  in.get(r.steps);
+  const auto n = in.get<std::uint64_t>();
+  for (std::uint64_t k = 0; k < n; ++k) {
+    auto name = in.get<std::string>();
+    r.values.emplace_back(std::move(name), in.get<double>());
+  }
+  return r;
+}
+
+class Runner {
+ public:
+  Runner(const Scenario& sc, const RunOptions& o) : sc_(sc), o_(o), st_(sc) {}
+
+  // A fresh run; or, with `in`, the rest of the checkpointed run in it.
+  RunReport run(io::BinaryReader* in) {
+    namespace fs = std::filesystem;
+    const fs::path dir(o_.out_dir);
+    if (sc_.outputs.frame_interval > 0.0) frames_.emplace((dir / "frames").string());
+    if (in) load(*in);
+    for (const auto& name : sc_.outputs.series.empty() ? st_.names : sc_.outputs.series) {
+      columns_.push_back(
+          static_cast<std::size_t>(std::find(st_.names.begin(), st_.names.end(), name) - st_.names.begin()));
+    }
+    const fs::path series_path = dir / "timeseries.csv";
+    if (in) {
+      // Rows after the checkpoint were written by the stopped run: they are written again.
+      std::error_code ec;
+      fs::resize_file(series_path, pos_.series_bytes, ec);
+      if (ec) throw InputError("cannot continue the time series: " + ec.message()).at(series_path.string());
+      series_.open(series_path, std::ios::app);
+    } else {
+      series_.open(series_path);
+      series_ << "stage";
+      for (const std::size_t c : columns_) series_ << ',' << st_.names[c];
+      series_ << '\n';
+      series_.flush();
+      pos_.series_bytes = static_cast<std::uint64_t>(series_.tellp());
+    }
+    if (!series_) throw InputError("cannot write the time series").at(series_path.string());
+    interrupt_requested.store(false);
+    const auto previous = std::signal(SIGINT, on_interrupt);
+    RunReport report;
+    try {
+      report = loop();
+    } catch (...) {
+      std::signal(SIGINT, previous);
+      throw;
+    }
+    std::signal(SIGINT, previous);
+    return report;
+  }
+
+ private:
+  double wall() const { return pos_.wall_before + std::chrono::duration<double>(Clock::now() - wall0_).count(); }
+
+  void write_row(const std::string& stage) {
+    const auto v = st_.values();
+    series_ << stage;
+    for (const std::size_t c : columns_) series_ << ',' << fmt::format("{:.9g}", v[c]);
+    series_ << '\n';
+    series_.flush();
+    pos_.series_bytes = static_cast<std::uint64_t>(series_.tellp());
+  }
+
+  void save_checkpoint() {
+    io::BinaryWriter out;
+    out.put(std::string(checkpoint_magic));
+    out.put(sc_.document.file);
+    YAML::Emitter echo;
+    echo << sc_.document.root;
+    out.put(std::string(echo.c_str()));
+    out.put(static_cast<std::uint64_t>(sc_.document.overrides.size()));
+    for (const auto& ov : sc_.document.overrides) out.put(ov.path), out.put(ov.value);
+    out.put(static_cast<std::uint64_t>(sc_.document.parameters.size()));
+    for (const auto& [k, v] : sc_.document.parameters) out.put(k), out.put(v);
+    out.put(pos_.stage);
+    out.put(pos_.stage_started);
+    out.put(pos_.t0);
+    out.put(pos_.steps0);
+    out.put(pos_.history_t);
+    out.put(pos_.history_v);
+    out.put(pos_.next_row);
+    out.put(pos_.next_frame);
+    out.put(pos_.particle_steps);
+    out.put(wall());
+    out.put(pos_.series_bytes);
+    out.put(static_cast<std::uint64_t>(pos_.done.size()));
+    for (const auto& r : pos_.done) put(out, r);
+    out.put(static_cast<std::uint64_t>(pos_.warnings.size()));
+    for (const auto& w : pos_.warnings) out.put(w);
+    out.put(st_.factory_on);
+    for (const auto& f : st_.factories) f.save(out);
+    for (const Sink* k : sinks_and_lost()) {
+      out.put(k->enabled);
+      out.put(k->count);
+      out.put(k->mass);
+    }
+    if (frames_) frames_->save(out);
+    st_.sim.save_state(out);
+    io::write_file_atomically((std::filesystem::path(o_.out_dir) / "checkpoint.bin").string(), out.bytes());
+    last_checkpoint_ = Clock::now();
+  }
+
+  void load(io::BinaryReader& in) {
+    // (the header, up to the parameters, was read by resume_scenario)
+    in.get(pos_.stage);
+    in.get(pos_.stage_started);
+    in.get(pos_.t0);
+    in.get(pos_.steps0);
+    in.get(pos_.history_t);
+    in.get(pos_.history_v);
+    in.get(pos_.next_row);
+    in.get(pos_.next_frame);
+    in.get(pos_.particle_steps);
+    in.get(pos_.wall_before);
+    in.get(pos_.series_bytes);
+    const auto n_done = in.get<std::uint64_t>();
+    for (std::uint64_t k = 0; k < n_done; ++k) pos_.done.push_back(get_report(in));
+    const auto n_warn = in.get<std::uint64_t>();
+    for (std::uint64_t k = 0; k < n_warn; ++k) pos_.warnings.push_back(in.get<std::string>());
+    in.get(st_.factory_on);
+    if (st_.factory_on.size() != st_.factories.size() || pos_.stage > sc_.stages.size()) {
+      throw InputError("the checkpoint does not match its scenario (a damaged file?)");
+    }
+    for (auto& f : st_.factories) f.load(in);
+    for (Sink* k : sinks_and_lost()) {
+      in.get(k->enabled);
+      in.get(k->count);
+      in.get(k->mass);
+    }
+    if (frames_) frames_->load(in);
+    st_.sim.load_state(in);
+    if (!in.done()) throw InputError("unexpected data at the end of the checkpoint (a damaged file?)");
+  }
+
+  std::vector<Sink*> sinks_and_lost() {
+    std::vector<Sink*> all{&st_.lost};
+    for (Sink& k : st_.sinks) all.push_back(&k);
+    return all;
+  }
+
+  // The first end condition the stage meets now, or "".
+  std::string ended_by(const StageSpec& stage) {
+    const Simulation& sim = st_.sim;
+    const double dt = sc_.settings.dt, elapsed = sim.time() - pos_.t0;
+    if (stage.duration && elapsed >= *stage.duration - 0.5 * dt) return "time";
+    if (elapsed >= stage.min_time - 0.5 * dt && elapsed > 0.0) {
+      if (stage.kinetic_energy && st_.kinetic_energy_per_particle() < *stage.kinetic_energy) return "kinetic_energy";
+      if (stage.factories_done) {
+        bool all = true;
+        for (std::size_t f = 0; f < st_.factories.size(); ++f)
+          all = all && (!st_.factory_on[f] || st_.factories[f].done());
+        if (all) return "factories_done";
+      }
+      if (stage.servo_part) {
+        const ServoState& s = sim.part(*stage.servo_part).servo;
+        if (s.held && s.held_since >= 0.0 && sim.time() - s.held_since >= stage.servo_hold) return "servo_held";
+      }
+      if (stage.stable) {
+        auto& t = pos_.history_t;
+        auto& v = pos_.history_v;
+        if (t.empty() || t.back() < sim.time()) {  // (once per time: a restart checks again)
+          t.push_back(sim.time());
+          v.push_back(st_.value(*stage.stable));
+        }
+        std::size_t drop = 0;  // samples older than the window, keeping one at or before its start
+        while (t.size() - drop > 2 && t[drop + 1] <= sim.time() - stage.stable_window) ++drop;
+        t.erase(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(drop));
+        v.erase(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(drop));
+        if (t.front() <= sim.time() - stage.stable_window + 0.5 * dt) {
+          const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+          if (*hi - *lo <= stage.stable_tolerance * std::max(std::abs(*lo), std::abs(*hi))) return "stable";
+        }
+      }
+    }
+    if (elapsed >= stage.max_time - 0.5 * dt) return "max_time";
+    return "";
+  }
+
+  void progress_line(const StageSpec& stage, double limit) {
+    if (!o_.progress) return;
+    const auto now = Clock::now();
+    const double since = std::chrono::duration<double>(now - last_line_).count();
+    if (tty_ ? since < 0.25 : since < o_.progress_interval) return;
+    last_line_ = now;
+    const Simulation& sim = st_.sim;
+    const double w = std::chrono::duration<double>(now - stage_wall0_).count();
+    const double rate = w > 0.0 ? (sim.time() - stage_time0_) / w : 0.0;  // simulated s per wall s
+    const double eta = rate > 0.0 ? (limit - (sim.time() - pos_.t0)) / rate : std::numeric_limits<double>::infinity();
+    fmt::print(stderr, "{}stage {}/{} {}  t = {:.4f} s  particles {}  {:.0f} steps/s  stage ETA {}{}{}",
+               tty_ ? "\r" : "", pos_.stage + 1, sc_.stages.size(), stage.name, sim.time(), sim.particles().bodies(),
+               static_cast<double>(sim.steps() - stage_steps0_) / std::max(w, 1e-9),
+               stage.duration ? "" : "<= ", format_duration(eta), tty_ ? "   " : "\n");
+  }
+
+  RunReport loop() {
+    Simulation& sim = st_.sim;
+    const double dt = sc_.settings.dt;
+    wall0_ = last_line_ = last_checkpoint_ = Clock::now();
+    tty_ = o_.progress && isatty(fileno(stderr)) != 0;
+    bool interrupted = false;
+    while (pos_.stage < sc_.stages.size() && !interrupted) {
+      const StageSpec& stage = sc_.stages[pos_.stage];
+      if (!pos_.stage_started) {
+        pos_.t0 = sim.time();
+        pos_.steps0 = sim.steps();
+        pos_.history_t.clear();
+        pos_.history_v.clear();
+        for (const auto& [f, on] : stage.factories) st_.factory_on[f] = on;
+        for (const auto& [k, on] : stage.sinks) st_.sinks[k].enabled = on;
+        for (const auto& [p, m] : stage.motions) sim.set_motion(p, shifted(m, pos_.t0));
+        pos_.stage_started = true;
+      }
+      stage_wall0_ = Clock::now();
+      stage_time0_ = sim.time();
+      stage_steps0_ = sim.steps();
+      const double limit = stage.duration ? std::min(*stage.duration, stage.max_time) : stage.max_time;
+      std::string end;
+      while ((end = ended_by(stage)).empty()) {
+        // outputs due now
+        if (sim.time() >= pos_.next_row - 0.5 * dt) {
+          write_row(stage.name);
+          pos_.next_row += sc_.outputs.series_interval;
+        }
+        if (frames_ && sim.time() >= pos_.next_frame - 0.5 * dt) {
+          frames_->write(sim);
+          pos_.next_frame += sc_.outputs.frame_interval;
+        }
+        // a checkpoint (periodic, or asked for by Ctrl-C) between checks, where nothing is half done
+        const bool stop = interrupt_requested.load() || sim.time() >= o_.interrupt_at - 0.5 * dt;
+        if (stop ||
+            (o_.checkpoint_interval > 0.0 &&
+             std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >= o_.checkpoint_interval)) {
+          save_checkpoint();
+          if (stop) {
+            interrupted = true;
+            break;
+          }
+        }
+        // advance to the next check, output or end of the stage
+        const double elapsed = sim.time() - pos_.t0;
+        double span = std::min({sc_.check_interval, limit - elapsed, pos_.next_row - sim.time()});
+        if (frames_) span = std::min(span, pos_.next_frame - sim.time());
+        const auto n = static_cast<std::uint64_t>(std::max(1.0, std::round(span / dt)));
+        const double before = sim.time();
+        sim.step(n);
+        pos_.particle_steps += static_cast<double>(n) * static_cast<double>(sim.particles().bodies());
+        for (std::size_t f = 0; f < st_.factories.size(); ++f) {
+          if (!st_.factory_on[f]) continue;
+          const FactorySpec& spec = st_.factories[f].spec();
+          const double active = std::max(0.0, std::min(sim.time(), spec.stop) - std::max(before, spec.start));
+          if (active > 0.0) st_.factories[f].run(sim, active);
+        }
+        apply_sinks(sim, st_.sinks, sc_.domain, st_.lost);
+        progress_line(stage, limit);
+      }
+      if (interrupted) break;
+      StageReport sr{stage.name, end, pos_.t0, sim.time(), sim.steps() - pos_.steps0, {}};
+      const auto v = st_.values();
+      for (std::size_t k = 0; k < v.size(); ++k) sr.values.emplace_back(st_.names[k], v[k]);
+      if (o_.progress) {
+        fmt::print(stderr, "{}stage {}/{} {} ended by {} at t = {:.4f} s ({} steps)\n", tty_ ? "\r" : "",
+                   pos_.stage + 1, sc_.stages.size(), stage.name, end, sim.time(), sr.steps);
+      }
+      if (end == "max_time" && (stage.kinetic_energy || stage.factories_done || stage.servo_part || stage.stable)) {
+        pos_.warnings.push_back(
+            fmt::format("stage '{}' ended at its time limit before its condition was met", stage.name));
+      }
+      pos_.done.push_back(std::move(sr));
+      ++pos_.stage;
+      pos_.stage_started = false;
+    }
+    RunReport report;
+    report.interrupted = interrupted;
+    if (interrupted) {
+      if (o_.progress) {
+        fmt::print(stderr,
+                   "{}interrupted at t = {:.4f} s: checkpoint written; continue with: bushel run --restart {}\n",
+                   tty_ ? "\n" : "", sim.time(), o_.out_dir);
+      }
+    } else {
+      write_row("end");
+      if (frames_) frames_->write(sim);
+    }
+    report.stages = pos_.done;
+    report.steps = sim.steps();
+    report.simulated_time = sim.time();
+    report.wall_time = wall();
+    report.particle_steps = pos_.particle_steps;
+    report.warnings = pos_.warnings;
+    if (!interrupted) {
+      for (const auto& f : st_.factories) {
+        if (f.done()) continue;
+        const double made =
+            f.spec().total_by_mass ? f.report().total_mass : static_cast<double>(f.report().total_count);
+        report.warnings.push_back(fmt::format("factory '{}' created {:.4g} of its total {:.4g}{}", f.spec().name, made,
+                                              f.spec().total, f.spec().total_by_mass ? " kg" : " particles"));
+      }
+      std::size_t lost = 0;
+      for (const auto c : st_.lost.count) lost += c;
+      if (lost > 0) report.warnings.push_back(fmt::format("{} particles left the domain", lost));
+    }
+    write_summary(report);
+    return report;
+  }
+
+  void write_summary(const RunReport& report) {
+    namespace fs = std::filesystem;
+    nlohmann::ordered_json j;
+    j["scenario"] = fs::absolute(sc_.document.file).string();
+    nlohmann::ordered_json overrides = nlohmann::ordered_json::array();
+    for (const auto& ov : sc_.document.overrides) overrides.push_back(ov.path + "=" + ov.value);
+    j["overrides"] = overrides;
+    j["parameters"] = sc_.document.parameters;
+    YAML::Emitter echo;
+    echo << sc_.document.root;
+    j["echo"] = std::string(echo.c_str());
+    j["interrupted"] = report.interrupted;
+    j["dt_s"] = sc_.settings.dt;
+    j["rayleigh_step_s"] = sc_.rayleigh_step;
+    j["steps"] = report.steps;
+    j["simulated_time_s"] = report.simulated_time;
+    j["wall_time_s"] = report.wall_time;
+    j["particle_steps_per_s"] = report.wall_time > 0.0 ? report.particle_steps / report.wall_time : 0.0;
+    nlohmann::ordered_json stages = nlohmann::ordered_json::array();
+    for (const auto& s : report.stages) {
+      stages.push_back({{"name", s.name},
+                        {"ended_by", s.ended_by},
+                        {"start_s", s.start},
+                        {"end_s", s.end},
+                        {"steps", s.steps},
+                        {"values", values_json(s.values)}});
+    }
+    j["stages"] = stages;
+    nlohmann::ordered_json factories = nlohmann::ordered_json::array();
+    for (const auto& f : st_.factories) {
+      nlohmann::ordered_json types = nlohmann::ordered_json::object();
+      const auto achieved = f.achieved_fractions();
+      for (std::size_t k = 0; k < f.spec().types.size(); ++k) {
+        types[st_.type_names[f.spec().types[k]]] = {{"count", f.report().count[k]},
+                                                    {"mass_kg", f.report().mass[k]},
+                                                    {"fraction", achieved[k]},
+                                                    {"target_fraction", f.spec().fractions[k]}};
+      }
+      factories.push_back({{"name", f.spec().name},
+                           {"fractions_by", f.spec().fractions_by_mass ? "mass" : "count"},
+                           {"count", f.report().total_count},
+                           {"mass_kg", f.report().total_mass},
+                           {"done", f.done()},
+                           {"types", types}});
+    }
+    j["factories"] = factories;
+    auto sink_json = [&](const Sink& k) {
+      nlohmann::ordered_json types = nlohmann::ordered_json::object();
+      std::size_t count = 0;
+      double mass = 0.0;
+      for (std::size_t t = 0; t < k.count.size(); ++t) {
+        types[st_.type_names[t]] = {{"count", k.count[t]}, {"mass_kg", k.mass[t]}};
+        count += k.count[t];
+        mass += k.mass[t];
+      }
+      return nlohmann::ordered_json{{"name", k.name}, {"count", count}, {"mass_kg", mass}, {"types", types}};
+    };
+    nlohmann::ordered_json sinks = nlohmann::ordered_json::array();
+    for (const auto& k : st_.sinks) sinks.push_back(sink_json(k));
+    j["sinks"] = sinks;
+    j["lost"] = sink_json(st_.lost);
+    std::vector<std::pair<std::string, double>> now;
+    const auto v = st_.values();
+    for (std::size_t k = 0; k < v.size(); ++k) now.emplace_back(st_.names[k], v[k]);
+    j["final"] = values_json(now);
+    j["final_state_hash"] = fmt::format("{:016x}", state_hash(st_.sim.particles()));
+    j["warnings"] = report.warnings;
+    io::write_file_atomically((fs::path(o_.out_dir) / "summary.json").string(), j.dump(2) + "\n");
+  }
+
+  const Scenario& sc_;
+  const RunOptions& o_;
+  RunState st_;
+  Position pos_;
+  std::optional<io::FrameWriter> frames_;
+  std::vector<std::size_t> columns_;
+  std::ofstream series_;
+  Clock::time_point wall0_, last_line_, last_checkpoint_, stage_wall0_;
+  double stage_time0_ = 0.0;
+  std::uint64_t stage_steps0_ = 0;
+  bool tty_ = false;
+};
+
+void prepare_output(const RunOptions& o, int scenario_threads) {
+  std::error_code ec;
+  std::filesystem::create_directories(o.out_dir, ec);
+  if (ec) throw InputError("cannot create the output folder: " + ec.message()).with_key(o.out_dir);
+#ifdef BUSHEL_HAVE_OPENMP
+  const int threads = o.threads > 0 ? o.threads : scenario_threads;
+  if (threads > 0) omp_set_num_threads(threads);
+#else
+  (void)scenario_threads;
+#endif
+}
+
 }  // namespace
 
 RunReport run_scenario(const Scenario& sc, const RunOptions& options) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::create_directories(options.out_dir, ec);
-  if (ec) throw InputError("cannot create the output folder: " + ec.message()).with_key(options.out_dir);
-#ifdef BUSHEL_HAVE_OPENMP
-  const int threads = options.threads > 0 ? options.threads : sc.threads;
-  if (threads > 0) omp_set_num_threads(threads);
-#endif
-  RunState st(sc);
-  Simulation& sim = st.sim;
-  const double dt = sc.settings.dt;
-  RunReport report;
+  prepare_output(options, sc.threads);
+  Runner runner(sc, options);
+  return runner.run(nullptr);
+}
 
-  // --- outputs ------------------------------------------------------------------------------
-  std::vector<std::size_t> columns;
-  for (const auto& name : sc.outputs.series.empty() ? st.names : sc.outputs.series) {
-    columns.push_back(static_cast<std::size_t>(std::find(st.names.begin(), st.names.end(), name) - st.names.begin()));
+RunReport resume_scenario(const RunOptions& options) {
+  const std::string path = (std::filesystem::path(options.out_dir) / "checkpoint.bin").string();
+  if (!std::filesystem::exists(path)) throw InputError("no checkpoint to continue from").at(path);
+  const std::string bytes = io::read_text_file(path);
+  io::BinaryReader in(bytes, path);
+  if (in.get<std::string>() != checkpoint_magic)
+    throw InputError("not a bushel checkpoint (or of another version)").at(path);
+  // The scenario as it was resolved (overrides applied, parameters substituted), read again
+  // as if from its file, so that relative paths (meshes, templates) still resolve.
+  const auto file = in.get<std::string>();
+  const auto text = in.get<std::string>();
+  std::vector<Override> overrides(in.get<std::uint64_t>());
+  for (auto& ov : overrides) in.get(ov.path), in.get(ov.value);
+  std::map<std::string, std::string> parameters;
+  const auto n_parameters = in.get<std::uint64_t>();
+  for (std::uint64_t k = 0; k < n_parameters; ++k) {
+    auto name = in.get<std::string>();
+    parameters[name] = in.get<std::string>();
   }
-  std::ofstream series(fs::path(options.out_dir) / "timeseries.csv");
-  series << "stage";
-  for (const std::size_t c : columns) series << ',' << st.names[c];
-  series << '\n';
-  std::optional<io::FrameWriter> frames;
-  if (sc.outputs.frame_interval > 0.0) frames.emplace((fs::path(options.out_dir) / "frames").string());
-  double next_row = 0.0, next_frame = 0.0;
-  auto write_row = [&](const std::string& stage) {
-    const auto v = st.values();
-    series << stage;
-    for (const std::size_t c : columns) series << ',' << fmt::format("{:.9g}", v[c]);
-    series << '\n';
-    series.flush();
-  };
-
-  const bool tty = options.progress && isatty(fileno(stderr)) != 0;
-  const auto wall0 = Clock::now();
-  auto last_line = wall0;
-  auto wall = [&] { return std::chrono::duration<double>(Clock::now() - wall0).count(); };
-
-  for (std::size_t si = 0; si < sc.stages.size(); ++si) {
-    const StageSpec& stage = sc.stages[si];
-    const double t0 = sim.time();
-    const std::uint64_t steps0 = sim.steps();
-    const double wall_stage0 = wall();
-    for (const auto& [f, on] : stage.factories) st.factory_on[f] = on;
-    for (const auto& [s, on] : stage.sinks) st.sinks[s].enabled = on;
-    for (const auto& [p, m] : stage.motions) sim.set_motion(p, shifted(m, t0));
-    const double limit = stage.duration ? std::min(*stage.duration, stage.max_time) : stage.max_time;
-    std::deque<std::pair<double, double>> history;  // (time, value) of the stable condition
-    std::string ended_by;
-    while (true) {
-      const double elapsed = sim.time() - t0;
-      // --- end conditions, in the order the report names them ---
-      if (stage.duration && elapsed >= *stage.duration - 0.5 * dt) {
-        ended_by = "time";
-      } else if (elapsed >= stage.min_time - 0.5 * dt && elapsed > 0.0) {
-        if (stage.kinetic_energy && st.kinetic_energy_per_particle() < *stage.kinetic_energy)
-          ended_by = "kinetic_energy";
-        if (ended_by.empty() && stage.factories_done) {
-          bool all = true;
-          for (std::size_t f = 0; f < st.factories.size(); ++f)
-            all = all && (!st.factory_on[f] || st.factories[f].done());
-          if (all) ended_by = "factories_done";
-        }
-        if (ended_by.empty() && stage.servo_part) {
-          const ServoState& s = sim.part(*stage.servo_part).servo;
-          if (s.held && s.held_since >= 0.0 && sim.time() - s.held_since >= stage.servo_hold) ended_by = "servo_held";
-        }
-        if (ended_by.empty() && stage.stable) {
-          history.emplace_back(sim.time(), st.value(*stage.stable));
-          while (history.size() > 2 && history[1].first <= sim.time() - stage.stable_window) history.pop_front();
-          if (history.front().first <= sim.time() - stage.stable_window + 0.5 * dt) {
-            double lo = INFINITY, hi = -INFINITY;
-            for (const auto& [t, x] : history) lo = std::min(lo, x), hi = std::max(hi, x);
-            const double scale = std::max(std::abs(lo), std::abs(hi));
-            if (hi - lo <= stage.stable_tolerance * scale) ended_by = "stable";
-          }
-        }
-      }
-      if (ended_by.empty() && elapsed >= stage.max_time - 0.5 * dt) ended_by = "max_time";
-      if (!ended_by.empty()) break;
-
-      // --- outputs due now ---
-      if (sim.time() >= next_row - 0.5 * dt) {
-        write_row(stage.name);
-        next_row += sc.outputs.series_interval;
-      }
-      if (frames && sim.time() >= next_frame - 0.5 * dt) {
-        frames->write(sim);
-        next_frame += sc.outputs.frame_interval;
-      }
-
-      // --- advance to the next check, output or end of stage ---
-      double span = std::min(sc.check_interval, limit - elapsed);
-      span = std::min(span, next_row - sim.time());
-      if (frames) span = std::min(span, next_frame - sim.time());
-      const auto n = static_cast<std::uint64_t>(std::max(1.0, std::round(span / dt)));
-      const double before = sim.time();
-      sim.step(n);
-      report.particle_steps += static_cast<double>(n) * static_cast<double>(sim.particles().bodies());
-      for (std::size_t f = 0; f < st.factories.size(); ++f) {
-        if (!st.factory_on[f]) continue;
-        const FactorySpec& spec = st.factories[f].spec();
-        const double active = std::max(0.0, std::min(sim.time(), spec.stop) - std::max(before, spec.start));
-        if (active > 0.0) st.factories[f].run(sim, active);
-      }
-      apply_sinks(sim, st.sinks, sc.domain, st.lost);
-
-      if (options.progress) {
-        const auto now = Clock::now();
-        const double since = std::chrono::duration<double>(now - last_line).count();
-        if (tty ? since >= 0.25 : since >= options.progress_interval) {
-          last_line = now;
-          const double w = wall() - wall_stage0;
-          const double rate = w > 0.0 ? (sim.time() - t0) / w : 0.0;  // simulated s per wall s
-          const double eta = rate > 0.0 ? (limit - (sim.time() - t0)) / rate : std::numeric_limits<double>::infinity();
-          fmt::print(stderr, "{}stage {}/{} {}  t = {:.4f} s  particles {}  {:.0f} steps/s  stage ETA {}{}{}",
-                     tty ? "\r" : "", si + 1, sc.stages.size(), stage.name, sim.time(), sim.particles().bodies(),
-                     static_cast<double>(sim.steps() - steps0) / std::max(w, 1e-9),
-                     stage.duration ? "" : "<= ", format_duration(eta), tty ? "   " : "\n");
-        }
-      }
-    }
-    StageReport sr{stage.name, ended_by, t0, sim.time(), sim.steps() - steps0, {}};
-    const auto v = st.values();
-    for (std::size_t k = 0; k < v.size(); ++k) sr.values.emplace_back(st.names[k], v[k]);
-    if (options.progress) {
-      fmt::print(stderr, "{}stage {}/{} {} ended by {} at t = {:.4f} s ({} steps)\n", tty ? "\r" : "", si + 1,
-                 sc.stages.size(), stage.name, ended_by, sim.time(), sr.steps);
-    }
-    if (ended_by == "max_time" && (stage.kinetic_energy || stage.factories_done || stage.servo_part || stage.stable)) {
-      report.warnings.push_back(
-          fmt::format("stage '{}' ended at its time limit before its condition was met", stage.name));
-    }
-    report.stages.push_back(std::move(sr));
-  }
-  write_row("end");
-  if (frames) frames->write(sim);
-  report.steps = sim.steps();
-  report.simulated_time = sim.time();
-  report.wall_time = wall();
-  for (const auto& f : st.factories) {
-    if (!f.done()) {
-      report.warnings.push_back(
-          fmt::format("factory '{}' created {:.4g} of its total {:.4g}{}", f.spec().name,
-                      f.spec().total_by_mass ? f.report().total_mass : static_cast<double>(f.report().total_count),
-                      f.spec().total, f.spec().total_by_mass ? " kg" : " particles"));
-    }
-  }
-  double lost_count = 0.0;
-  for (const auto c : st.lost.count) lost_count += static_cast<double>(c);
-  if (lost_count > 0) report.warnings.push_back(fmt::format("{:.0f} particles left the domain", lost_count));
-
-  // --- summary.json ---------------------------------------------------------------------------
-  nlohmann::ordered_json j;
-  j["scenario"] = fs::absolute(sc.document.file).string();
-  nlohmann::ordered_json overrides = nlohmann::ordered_json::array();
-  for (const auto& o : sc.document.overrides) overrides.push_back(o.path + "=" + o.value);
-  j["overrides"] = overrides;
-  j["parameters"] = sc.document.parameters;
-  YAML::Emitter echo;
-  echo << sc.document.root;
-  j["echo"] = std::string(echo.c_str());
-  j["dt_s"] = dt;
-  j["rayleigh_step_s"] = sc.rayleigh_step;
-  j["steps"] = report.steps;
-  j["simulated_time_s"] = report.simulated_time;
-  j["wall_time_s"] = report.wall_time;
-  j["particle_steps_per_s"] = report.wall_time > 0.0 ? report.particle_steps / report.wall_time : 0.0;
-  nlohmann::ordered_json stages = nlohmann::ordered_json::array();
-  for (const auto& s : report.stages) {
-    stages.push_back({{"name", s.name},
-                      {"ended_by", s.ended_by},
-                      {"start_s", s.start},
-                      {"end_s", s.end},
-                      {"steps", s.steps},
-                      {"values", values_json(s.values)}});
-  }
-  j["stages"] = stages;
-  nlohmann::ordered_json factories = nlohmann::ordered_json::array();
-  for (const auto& f : st.factories) {
-    nlohmann::ordered_json types = nlohmann::ordered_json::object();
-    const auto achieved = f.achieved_fractions();
-    for (std::size_t k = 0; k < f.spec().types.size(); ++k) {
-      types[st.type_names[f.spec().types[k]]] = {{"count", f.report().count[k]},
-                                                 {"mass_kg", f.report().mass[k]},
-                                                 {"fraction", achieved[k]},
-                                                 {"target_fraction", f.spec().fractions[k]}};
-    }
-    factories.push_back({{"name", f.spec().name},
-                         {"fractions_by", f.spec().fractions_by_mass ? "mass" : "count"},
-                         {"count", f.report().total_count},
-                         {"mass_kg", f.report().total_mass},
-                         {"done", f.done()},
-                         {"types", types}});
-  }
-  j["factories"] = factories;
-  auto sink_json = [&](const Sink& s) {
-    nlohmann::ordered_json types = nlohmann::ordered_json::object();
-    std::size_t count = 0;
-    double mass = 0.0;
-    for (std::size_t k = 0; k < s.count.size(); ++k) {
-      types[st.type_names[k]] = {{"count", s.count[k]}, {"mass_kg", s.mass[k]}};
-      count += s.count[k];
-      mass += s.mass[k];
-    }
-    return nlohmann::ordered_json{{"name", s.name}, {"count", count}, {"mass_kg", mass}, {"types", types}};
-  };
-  nlohmann::ordered_json sinks = nlohmann::ordered_json::array();
-  for (const auto& s : st.sinks) sinks.push_back(sink_json(s));
-  j["sinks"] = sinks;
-  j["lost"] = sink_json(st.lost);
-  j["final"] =
-      values_json(report.stages.empty() ? std::vector<std::pair<std::string, double>>{} : report.stages.back().values);
-  j["warnings"] = report.warnings;
-  io::write_file_atomically((fs::path(options.out_dir) / "summary.json").string(), j.dump(2) + "\n");
-  return report;
+  ScenarioDocument doc = parse_scenario_document(text, file);
+  doc.overrides = std::move(overrides);
+  doc.parameters = std::move(parameters);
+  const Scenario sc = read_scenario(std::move(doc));
+  prepare_output(options, sc.threads);
+  Runner runner(sc, options);
+  return runner.run(&in);
 }
 
 }  // namespace bushel

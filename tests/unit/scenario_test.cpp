@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -191,6 +193,47 @@ TEST_F(ScenarioRun, StagesEndOnTimeAndMoveParts) {
   double z = 0.0;
   for (const auto& [name, v] : r.stages[1].values) z = name == "bottom.position_z" ? v : z;
   EXPECT_NEAR(z, 0.005, 0.05 * sc.settings.dt + 1e-12);  // (the stage may end within a step of it)
+}
+
+TEST_F(ScenarioRun, ContinuesBitForBitFromACheckpoint) {
+  // The same run whole, and stopped twice (as by Ctrl-C: in the fill, then in the settling)
+  // and continued from its checkpoint each time: the same final state to the bit, the same
+  // time series and frames.
+  const Scenario sc = read(small, {parse_override("parameters.count=150")});
+  RunOptions whole;
+  whole.out_dir = path("whole");
+  whole.progress = false;
+  const RunReport a = run_scenario(sc, whole);
+  ASSERT_FALSE(a.interrupted);
+
+  RunOptions cut = whole;
+  cut.out_dir = path("cut");
+  cut.interrupt_at = 0.02;
+  EXPECT_TRUE(run_scenario(sc, cut).interrupted);
+  EXPECT_TRUE(std::filesystem::exists(path("cut/checkpoint.bin")));
+  cut.interrupt_at = 0.09;
+  EXPECT_TRUE(resume_scenario(cut).interrupted);
+  cut.interrupt_at = std::numeric_limits<double>::infinity();
+  const RunReport b = resume_scenario(cut);
+  ASSERT_FALSE(b.interrupted);
+
+  auto summary = [&](const std::string& dir) {
+    std::ifstream in(path(dir + "/summary.json"));
+    return nlohmann::json::parse(in);
+  };
+  const auto ja = summary("whole"), jb = summary("cut");
+  EXPECT_EQ(ja["final_state_hash"], jb["final_state_hash"]);
+  EXPECT_EQ(ja["final"], jb["final"]);
+  EXPECT_EQ(ja["stages"], jb["stages"]);
+  EXPECT_EQ(ja["factories"], jb["factories"]);
+  EXPECT_EQ(ja["steps"], jb["steps"]);
+  EXPECT_EQ(io::read_text_file(path("whole/timeseries.csv")), io::read_text_file(path("cut/timeseries.csv")));
+  EXPECT_EQ(io::read_text_file(path("whole/frames/particles.pvd")),
+            io::read_text_file(path("cut/frames/particles.pvd")));
+  // a damaged checkpoint is an error, not a crash
+  const std::string bytes = io::read_text_file(path("cut/checkpoint.bin"));
+  std::ofstream(path("cut/checkpoint.bin"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  EXPECT_THROW(resume_scenario(cut), InputError);
 }
 
 }  // namespace

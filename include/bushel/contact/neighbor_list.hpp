@@ -16,6 +16,11 @@
 
 namespace bushel {
 
+namespace io {
+class BinaryWriter;
+class BinaryReader;
+}  // namespace io
+
 class NeighborList {
  public:
   /// `skin` [m] > 0; `history_size` values of history per pair.
@@ -60,6 +65,11 @@ class NeighborList {
   std::span<const std::uint32_t> pairs_as_second(std::size_t element) const {
     return {as_second_.data() + second_start_[element], second_start_[element + 1] - second_start_[element]};
   }
+
+  /// The whole list, for a checkpoint; `load` restores it exactly (throws InputError on a
+  /// truncated archive).
+  void save(io::BinaryWriter& out) const;
+  void load(io::BinaryReader& in);
 
  private:
   double skin_;

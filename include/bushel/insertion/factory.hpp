@@ -17,6 +17,11 @@
 
 namespace bushel {
 
+namespace io {
+class BinaryWriter;
+class BinaryReader;
+}  // namespace io
+
 struct FactorySpec {
   std::string name;
   Region region;                                          ///< where particles are created (whole particles inside)
@@ -58,6 +63,9 @@ class Factory {
   const FactoryReport& report() const { return report_; }
   /// Achieved share of each type by the spec's measure (mass or count) [-].
   std::vector<double> achieved_fractions() const;
+  /// What it has done and its random state, for a checkpoint.
+  void save(io::BinaryWriter& out) const;
+  void load(io::BinaryReader& in);
 
  private:
   std::size_t next_type() const;

@@ -79,6 +79,12 @@ class Simulation {
   /// rebuilds the neighbour list.
   void remove_bodies(std::span<const std::size_t> bodies);
 
+  /// The whole dynamic state (particles, parts' poses, motions and servos, contact lists and
+  /// histories, time), for a checkpoint. `load_state` into a simulation built with the same
+  /// settings, types and parts continues bit for bit as the saved one would have.
+  void save_state(io::BinaryWriter& out) const;
+  void load_state(io::BinaryReader& in);
+
   /// Advances `n` steps.
   void step(std::uint64_t n = 1);
 

@@ -13,6 +13,9 @@
 
 namespace bushel::io {
 
+class BinaryWriter;
+class BinaryReader;
+
 class FrameWriter {
  public:
   /// Creates `directory` if needed; throws InputError if it cannot.
@@ -20,6 +23,9 @@ class FrameWriter {
   /// Writes the simulation's current state as the next frame.
   void write(const Simulation& sim);
   std::size_t frames() const { return frames_.size(); }
+  /// The frames written so far, for a checkpoint: a restarted run goes on numbering them.
+  void save(BinaryWriter& out) const;
+  void load(BinaryReader& in);
 
  private:
   std::string directory_;

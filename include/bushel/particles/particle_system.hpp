@@ -16,6 +16,11 @@
 
 namespace bushel {
 
+namespace io {
+class BinaryWriter;
+class BinaryReader;
+}  // namespace io
+
 struct BodyState {
   Vec3 position;          ///< centre of mass [m]
   Quat orientation;       ///< principal frame -> world
@@ -64,6 +69,11 @@ class ParticleSystem {
   /// bodies missing from `order` are dropped.
   /// Returns the sphere permutation applied (new sphere index -> old sphere index).
   std::vector<std::uint32_t> permute(std::span<const std::uint32_t> order);
+
+  /// Every body and element (not the types), for a checkpoint; `load` restores them exactly
+  /// into a system with the same types (throws InputError otherwise).
+  void save(io::BinaryWriter& out) const;
+  void load(io::BinaryReader& in);
 
   /// Translational plus rotational kinetic energy [J].
   double kinetic_energy() const;

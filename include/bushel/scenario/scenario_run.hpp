@@ -6,8 +6,12 @@
 //                   steps, wall time, particle-steps per second, warnings (written atomically)
 //   timeseries.csv  the chosen values at the chosen interval
 //   frames/         ParaView frames (particles and geometry, .vtu + .pvd), if asked for
+//   checkpoint.bin  the whole state of the run, written atomically every few minutes of wall
+//                   time and on Ctrl-C; `--restart` continues from it bit for bit (the
+//                   scenario itself is kept in it)
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,10 +21,13 @@
 namespace bushel {
 
 struct RunOptions {
-  std::string out_dir;            ///< created if missing
-  int threads = 0;                ///< 0: the scenario's setting
-  bool progress = true;           ///< a progress line on stderr
-  double progress_interval = 10;  ///< wall seconds between plain progress lines (not a terminal) [s]
+  std::string out_dir;               ///< created if missing
+  int threads = 0;                   ///< 0: the scenario's setting
+  bool progress = true;              ///< a progress line on stderr
+  double progress_interval = 10;     ///< wall seconds between plain progress lines (not a terminal) [s]
+  double checkpoint_interval = 300;  ///< wall seconds between checkpoints [s]; 0 = only on Ctrl-C
+  /// Stop as Ctrl-C would at the first check at or after this simulated time [s] (tests).
+  double interrupt_at = std::numeric_limits<double>::infinity();
 };
 
 struct StageReport {
@@ -32,6 +39,7 @@ struct StageReport {
 };
 
 struct RunReport {
+  bool interrupted = false;  ///< stopped by Ctrl-C (or interrupt_at): checkpoint.bin holds the rest
   std::vector<StageReport> stages;
   std::uint64_t steps = 0;
   double simulated_time = 0.0;  ///< [s]
@@ -42,5 +50,9 @@ struct RunReport {
 
 /// Runs the scenario and writes its outputs; returns what summary.json holds.
 RunReport run_scenario(const Scenario& scenario, const RunOptions& options);
+
+/// Continues the run whose checkpoint is in options.out_dir (the scenario comes from it).
+/// Throws InputError if there is no readable checkpoint.
+RunReport resume_scenario(const RunOptions& options);
 
 }  // namespace bushel
