@@ -223,11 +223,16 @@ std::vector<std::string> SensorSpec::values(const std::vector<std::string>& type
       for (const auto& t : type_names) v.push_back("fraction_" + t);
       return v;
     }
-    case Kind::part:
-      return area > 0.0 ? std::vector<std::string>{"force", "pressure", "force_x", "force_y", "force_z", "position_z"}
-                        : std::vector<std::string>{"force", "force_x", "force_y", "force_z", "position_z"};
+    case Kind::part: {
+      std::vector<std::string> v = {"force"};
+      if (area > 0.0) v.push_back("pressure");
+      v.insert(v.end(), {"force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z", "position_z"});
+      return v;
+    }
     case Kind::heap:
       return {"height", "angle"};
+    case Kind::flow:
+      return {"mass", "rate"};
   }
   return {};
 }
@@ -510,7 +515,7 @@ Scenario read_scenario(ScenarioDocument document) {
     for (const auto& [name, s] : ss->entries()) {
       SensorSpec spec;
       spec.name = name;
-      const std::string kind = s.at("kind").choice({"region", "part", "heap"});
+      const std::string kind = s.at("kind").choice({"region", "part", "heap", "flow"});
       if (kind == "region") {
         s.allow_only({"kind", "region"});
         spec.region = read_region(s.at("region"));
@@ -521,6 +526,12 @@ Scenario read_scenario(ScenarioDocument document) {
         spec.part = index_in(s.at("part"), part_names, "part");
         spec.axis = s.has("axis") ? unit_vector(s.at("axis")) : Vec3{0, 0, -1};
         spec.area = s.positive_or("area", dim::area, 0.0);
+      } else if (kind == "flow") {
+        s.allow_only({"kind", "point", "normal", "window"});
+        spec.kind = SensorSpec::Kind::flow;
+        spec.point = s.vector_or("point", dim::length, {});
+        spec.normal = s.has("normal") ? unit_vector(s.at("normal")) : Vec3{0, 0, -1};
+        spec.window = s.positive_or("window", dim::time, 0.05);
       } else {
         s.allow_only({"kind", "centre", "radius", "rings"});
         spec.kind = SensorSpec::Kind::heap;

@@ -26,6 +26,7 @@
 #include "bushel/io/csv.hpp"
 #include "bushel/io/frame_writer.hpp"
 #include "bushel/sensors/heap_profile.hpp"
+#include "bushel/sensors/plane_flow.hpp"
 #include "bushel/sensors/region_sensor.hpp"
 
 #ifdef BUSHEL_HAVE_OPENMP
@@ -53,6 +54,7 @@ struct RunState {
   std::vector<bool> factory_on;
   std::vector<Sink> sinks;
   Sink lost{"domain", {}, true, {}, {}};
+  std::vector<PlaneFlow> flows;  // one per flow sensor, in order
   std::vector<std::string> type_names, names;
 
   explicit RunState(const Scenario& s) : sc(s), sim(s.settings), factory_on(s.factory_enabled) {
@@ -63,6 +65,9 @@ struct RunState {
     for (const auto& p : sc.parts) sim.add_part(p);
     for (const auto& f : sc.factories) factories.emplace_back(f, sim);
     for (const auto& k : sc.sinks) sinks.push_back({k.name, k.region, k.enabled, {}, {}});
+    for (const auto& k : sc.sensors) {
+      if (k.kind == SensorSpec::Kind::flow) flows.emplace_back(k.point, k.normal, k.window);
+    }
     names = sc.value_names();
   }
 
@@ -97,6 +102,7 @@ struct RunState {
          removed,
          lost_mass,
          lost_count};
+    std::size_t flow = 0;
     for (const auto& s : sc.sensors) {
       switch (s.kind) {
         case SensorSpec::Kind::region: {
@@ -111,7 +117,7 @@ struct RunState {
           const double along = dot(p.force, s.axis);
           v.push_back(along);
           if (s.area > 0.0) v.push_back(along / s.area);
-          v.insert(v.end(), {p.force.x, p.force.y, p.force.z, p.pose.position.z});
+          v.insert(v.end(), {p.force.x, p.force.y, p.force.z, p.torque.x, p.torque.y, p.torque.z, p.pose.position.z});
           break;
         }
         case SensorSpec::Kind::heap: {
@@ -121,6 +127,10 @@ struct RunState {
           v.insert(v.end(), {top, h.angle * 180.0 / std::numbers::pi});
           break;
         }
+        case SensorSpec::Kind::flow:
+          v.insert(v.end(), {flows[flow].mass(), flows[flow].rate()});
+          ++flow;
+          break;
       }
     }
     return v;
@@ -294,6 +304,7 @@ class Runner {
       out.put(k->count);
       out.put(k->mass);
     }
+    for (const auto& f : st_.flows) f.save(out);
     if (frames_) frames_->save(out);
     st_.sim.save_state(out);
     io::write_file_atomically((std::filesystem::path(o_.out_dir) / "checkpoint.bin").string(), out.bytes());
@@ -327,6 +338,7 @@ class Runner {
       in.get(k->count);
       in.get(k->mass);
     }
+    for (auto& f : st_.flows) f.load(in);
     if (frames_) frames_->load(in);
     st_.sim.load_state(in);
     if (!in.done()) throw InputError("unexpected data at the end of the checkpoint (a damaged file?)");
@@ -451,6 +463,7 @@ class Runner {
           if (active > 0.0) st_.factories[f].run(sim, active);
         }
         apply_sinks(sim, st_.sinks, sc_.domain, st_.lost);
+        for (auto& f : st_.flows) f.update(sim.particles(), sim.time());
         progress_line(stage, limit);
       }
       if (interrupted) break;

@@ -44,6 +44,7 @@ sinks:
 sensors:
   cup: {kind: region, region: {shape: cylinder, radius: 15 mm, height: 10 mm}}
   bottom: {kind: part, part: cup, axis: 0 0 -1, area: 706.86 mm2}
+  inflow: {kind: flow, point: 0 0 42 mm, normal: 0 0 -1}
 stages:
   - name: fill
     until: {factories_done: true, max_time: 0.1 s}
@@ -162,6 +163,9 @@ TEST_F(ScenarioRun, FillsSettlesAndWritesItsOutputs) {
   EXPECT_NEAR(end["bottom.force"].get<double>(), weight, 0.05 * weight);
   EXPECT_GT(end["cup.coordination"].get<double>(), 3.0);
   EXPECT_EQ(end["lost_count"], 0.0);
+  // every particle crossed the plane above the cup once, downwards
+  EXPECT_NEAR(end["inflow.mass"].get<double>(), end["created_mass"].get<double>(), 1e-12);
+  EXPECT_EQ(end["inflow.rate"].get<double>(), 0.0);  // nothing crossed in the last 50 ms
 
   const auto table = io::read_text_file(path("out/timeseries.csv"));
   std::istringstream lines(table);

@@ -20,16 +20,19 @@
 namespace bushel {
 
 struct SensorSpec {
-  enum class Kind { region, part, heap };
+  enum class Kind { region, part, heap, flow };
   std::string name;
   Kind kind = Kind::region;
-  Region region;         ///< region sensors
-  std::size_t part = 0;  ///< part sensors: index of the part
-  Vec3 axis{0, 0, -1};   ///< part sensors: the force is measured along this unit vector
-  double area = 0.0;     ///< part sensors: pressure = force / area [m2]; 0 = no pressure
-  Vec3 centre;           ///< heap: a point on the vertical axis [m]
-  double outer = 0.0;    ///< heap: outer radius [m]
-  int rings = 20;        ///< heap: number of rings
+  Region region;          ///< region sensors
+  std::size_t part = 0;   ///< part sensors: index of the part
+  Vec3 axis{0, 0, -1};    ///< part sensors: the force is measured along this unit vector
+  double area = 0.0;      ///< part sensors: pressure = force / area [m2]; 0 = no pressure
+  Vec3 centre;            ///< heap: a point on the vertical axis [m]
+  double outer = 0.0;     ///< heap: outer radius [m]
+  int rings = 20;         ///< heap: number of rings
+  Vec3 point;             ///< flow: a point of the plane [m]
+  Vec3 normal{0, 0, -1};  ///< flow: unit normal, the direction counted positive
+  double window = 0.05;   ///< flow: the rate's averaging time [s]
   /// The names of its values ("bulk_density", ...), without the sensor's name.
   std::vector<std::string> values(const std::vector<std::string>& type_names) const;
 };
