@@ -81,6 +81,10 @@ double Region::volume() const {
   return kind == Kind::cylinder ? std::numbers::pi * radius * radius * height : size.x * size.y * size.z;
 }
 
+double Region::room() const {
+  return kind == Kind::cylinder ? std::min(radius, 0.5 * height) : 0.5 * std::min({size.x, size.y, size.z});
+}
+
 bool Region::contains(const Vec3& p) const { return contains_sphere(p, 0.0); }
 
 bool Region::contains_sphere(const Vec3& c, double r, double margin) const {

@@ -38,16 +38,37 @@ Factory::Factory(FactorySpec spec, const Simulation& sim) : spec_(std::move(spec
     throw InputError("expected 0 <= start < stop").with_key("stop");
   }
   const double r_max = *std::max_element(type_radius_.begin(), type_radius_.end());
-  const Region& g = spec_.region;
-  const double room = g.kind == Region::Kind::cylinder ? std::min(g.radius, 0.5 * g.height)
-                                                       : 0.5 * std::min({g.size.x, g.size.y, g.size.z});
-  if (!(room > r_max)) {
+  report_.count.assign(spec_.types.size(), 0);
+  report_.mass.assign(spec_.types.size(), 0.0);
+  if (!spec_.surface.triangles.empty()) {
+    double area = 0.0;
+    for (std::size_t t = 0; t < spec_.surface.size(); ++t) {
+      const TriangleMesh& m = spec_.surface;
+      area += 0.5 * norm(cross(m.corner(t, 1) - m.corner(t, 0), m.corner(t, 2) - m.corner(t, 0)));
+      cumulative_area_.push_back(area);
+    }
+    if (!(area > 0.0)) throw InputError("expected a surface of positive area").with_key("surface");
+    return;
+  }
+  if (!(spec_.region.room() > r_max)) {
     throw InputError(
         fmt::format("the region is too small for the largest particle (bounding radius {:.3g} mm)", r_max * 1e3))
         .with_key("region");
   }
-  report_.count.assign(spec_.types.size(), 0);
-  report_.mass.assign(spec_.types.size(), 0.0);
+}
+
+Vec3 Factory::place(std::size_t k, std::mt19937_64& rng) const {
+  if (cumulative_area_.empty()) return spec_.region.sample(rng, type_radius_[k]);
+  // A point of the surface by area, and the centre one bounding radius in front of it.
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const auto it = std::upper_bound(cumulative_area_.begin(), cumulative_area_.end(), u(rng) * cumulative_area_.back());
+  const auto t = static_cast<std::size_t>(std::min<std::ptrdiff_t>(
+      it - cumulative_area_.begin(), static_cast<std::ptrdiff_t>(cumulative_area_.size()) - 1));
+  const TriangleMesh& m = spec_.surface;
+  const Vec3 a = m.corner(t, 0), e1 = m.corner(t, 1) - a, e2 = m.corner(t, 2) - a;
+  double s = u(rng), w = u(rng);
+  if (s + w > 1.0) s = 1.0 - s, w = 1.0 - w;  // folded into the triangle: uniform over it
+  return a + s * e1 + w * e2 + normalized(cross(e1, e2)) * (type_radius_[k] * (1.0 + 1e-9));
 }
 
 double Factory::created_measure() const {
@@ -100,7 +121,13 @@ std::size_t Factory::run(Simulation& sim, double active) {
   double r_old = 0.0;
   for (const double r : ps.radius) r_old = std::max(r_old, r);
   const Vec3 pad{r_new + r_old, r_new + r_old, r_new + r_old};
-  const Vec3 lo = spec_.region.lo() - pad, hi = spec_.region.hi() + pad;
+  Vec3 lo = spec_.region.lo(), hi = spec_.region.hi();
+  if (!cumulative_area_.empty()) {
+    lo = Vec3{INFINITY, INFINITY, INFINITY}, hi = -lo;
+    for (const Vec3& v : spec_.surface.vertices) lo = min(lo, v), hi = max(hi, v);
+    lo = lo - Vec3{r_new, r_new, r_new}, hi = hi + Vec3{r_new, r_new, r_new};  // (centres are r in front)
+  }
+  lo = lo - pad, hi = hi + pad;
   std::vector<Vec3> near_x;
   std::vector<double> near_r;
   for (std::size_t s = 0; s < ps.spheres(); ++s) {
@@ -118,7 +145,7 @@ std::size_t Factory::run(Simulation& sim, double active) {
     const ParticleType& type = ps.types()[spec_.types[k]];
     bool placed = false;
     for (int attempt = 0; attempt < spec_.attempts && !placed; ++attempt) {
-      const Vec3 c = spec_.region.sample(rng_, type_radius_[k]);
+      const Vec3 c = place(k, rng_);
       const Quat q = normalized(Quat{n01(rng_), n01(rng_), n01(rng_), n01(rng_)});
       bool clear = true;
       for (const auto& e : type.shape.spheres) {

@@ -443,12 +443,23 @@ Scenario read_scenario(ScenarioDocument document) {
   if (const auto fs = root.find("factories")) {
     std::uint64_t k = 0;
     for (const auto& [name, f] : fs->entries()) {
-      f.allow_only(
-          {"region", "rate", "mass", "count", "types", "fractions_by", "velocity", "start", "stop", "enabled", "seed"});
+      f.allow_only({"region", "surface", "rate", "mass", "count", "types", "fractions_by", "velocity", "start", "stop",
+                    "enabled", "seed"});
       FactorySpec spec;
       spec.name = name;
-      spec.region = read_region(f.at("region"));
-      require_inside(f.at("region"), spec.region.lo(), spec.region.hi(), sc.domain, "the factory's region");
+      if (f.one_of({"region", "surface"}) == "region") {
+        spec.region = read_region(f.at("region"));
+        require_inside(f.at("region"), spec.region.lo(), spec.region.hi(), sc.domain, "the factory's region");
+      } else {
+        // a mesh (STL) on whose front side particles are created, moved to `position`
+        const ScenarioNode surface = f.at("surface");
+        surface.allow_only({"file", "unit", "position"});
+        spec.surface = std::get<MeshSpec>(read_shape(surface, "mesh", dir)).mesh;
+        const Vec3 shift = surface.vector_or("position", dim::length, {});
+        Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
+        for (Vec3& v : spec.surface.vertices) v = v + shift, lo = min(lo, v), hi = max(hi, v);
+        require_inside(surface, lo, hi, sc.domain, "the factory's surface");
+      }
       if (f.has("rate")) {
         const ScenarioNode r = f.at("rate");
         const bool per_second = r.text().ends_with("/s") && !r.text().ends_with("kg/s") && !r.text().ends_with("g/s");
@@ -489,10 +500,7 @@ Scenario read_scenario(ScenarioDocument document) {
       // The region must hold the largest particle (the factory checks; the error points here).
       double r_max = 0.0;
       for (const auto t : spec.types) r_max = std::max(r_max, sc.types[t].shape.bounding_radius());
-      const Region& g = spec.region;
-      const double room = g.kind == Region::Kind::cylinder ? std::min(g.radius, 0.5 * g.height)
-                                                           : 0.5 * std::min({g.size.x, g.size.y, g.size.z});
-      if (!(room > r_max)) {
+      if (f.has("region") && !(spec.region.room() > r_max)) {
         throw f.at("region").error(
             fmt::format("too small for the largest particle (bounding radius {:.3g} mm)", r_max * 1e3));
       }

@@ -9,6 +9,7 @@
 
 #include "bushel/core/input_error.hpp"
 #include "bushel/experiments/pour_scene.hpp"
+#include "bushel/geometry/shapes.hpp"
 #include "bushel/insertion/sink.hpp"
 #include "bushel/particles/template_library.hpp"
 
@@ -88,6 +89,28 @@ TEST(Factory, CountsByCountAndWaitsWhenTheRegionIsFull) {
   const auto f = factory.achieved_fractions();
   const double n = static_cast<double>(factory.report().total_count);
   for (std::size_t i = 0; i < 3; ++i) EXPECT_LE(std::abs(f[i] - spec.fractions[i]) * n, 1.0 + 1e-9);
+}
+
+TEST(Factory, CreatesOnTheFrontOfASurface) {
+  // A 40 mm square sheet at z = 0.1 m facing up: every kernel is created touching it from
+  // above (its centre one bounding radius over the sheet) and within its edges.
+  Simulation sim = kanmark_simulation();
+  FactorySpec spec = kanmark_spec();
+  spec.surface = square_mesh(0.04, 4);
+  for (Vec3& v : spec.surface.vertices) v.z += 0.1;
+  spec.total = 0.0004;  // a dozen kernels: room on one sheet
+  spec.rate = 0.0;
+  Factory factory(spec, sim);
+  factory.run(sim, 1e-3);
+  EXPECT_TRUE(factory.done());
+  const auto& ps = sim.particles();
+  ASSERT_GT(ps.bodies(), 8u);
+  for (std::size_t b = 0; b < ps.bodies(); ++b) {
+    const double r = ps.types()[ps.body_type[b]].shape.bounding_radius();
+    EXPECT_NEAR(ps.position[b].z, 0.1 + r, 1e-9);
+    EXPECT_LE(std::abs(ps.position[b].x), 0.02);
+    EXPECT_LE(std::abs(ps.position[b].y), 0.02);
+  }
 }
 
 TEST(Factory, RejectsBadSpecs) {

@@ -11,7 +11,9 @@
 #include <sstream>
 
 #include "bushel/core/input_error.hpp"
+#include "bushel/geometry/shapes.hpp"
 #include "bushel/io/csv.hpp"
+#include "bushel/io/stl.hpp"
 #include "bushel/scenario/scenario_run.hpp"
 #include "temp_dir_test.hpp"
 
@@ -134,6 +136,20 @@ TEST(Scenario, ErrorsNameTheFileLineAndKey) {
 }
 
 class ScenarioRun : public TempDirTest {};
+
+TEST_F(ScenarioRun, ReadsAFactorySurfaceFromAnStlNextToTheScenario) {
+  io::write_stl(path("sheet.stl"), square_mesh(20.0, 2));  // 20 mm, in mm
+  const std::string text = replaced(small, "    region: {shape: box, centre: 0 0 60 mm, size: 24 24 30 mm}\n",
+                                    "    surface: {file: sheet.stl, unit: mm, position: 0 0 60 mm}\n");
+  std::ofstream(path("s.yaml")) << text;
+  const Scenario sc = read_scenario(load_scenario_document(path("s.yaml")));
+  ASSERT_EQ(sc.factories[0].surface.size(), 8u);
+  for (const Vec3& v : sc.factories[0].surface.vertices) {
+    EXPECT_NEAR(v.z, 0.06, 1e-12);
+    EXPECT_LE(std::abs(v.x), 0.01 + 1e-12);
+  }
+  EXPECT_NE(error_of(replaced(text, "file: sheet.stl", "file: nosuch.stl")).find("nosuch.stl"), std::string::npos);
+}
 
 TEST_F(ScenarioRun, FillsSettlesAndWritesItsOutputs) {
   const Scenario sc = read(small);

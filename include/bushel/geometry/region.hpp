@@ -24,6 +24,8 @@ struct Region {
   Vec3 lo() const;
   Vec3 hi() const;
   double volume() const;  ///< [m3]
+  /// Radius of the largest sphere that fits inside [m].
+  double room() const;
   bool contains(const Vec3& p) const;
   /// Whether a sphere of radius r at c lies wholly inside, with `margin` [m] to spare.
   bool contains_sphere(const Vec3& c, double r, double margin = 0.0) const;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bushel/geometry/region.hpp"
+#include "bushel/geometry/triangle_mesh.hpp"
 #include "bushel/integrate/simulation.hpp"
 
 namespace bushel {
@@ -24,7 +25,10 @@ class BinaryReader;
 
 struct FactorySpec {
   std::string name;
-  Region region;                                          ///< where particles are created (whole particles inside)
+  Region region;  ///< where particles are created (whole particles inside)
+  /// A mesh-surface factory instead (when it has triangles): particles are created touching
+  /// the surface on its front (at a random point of it, by area), e.g. a spout's mouth.
+  TriangleMesh surface;
   bool rate_by_mass = true;                               ///< rate in kg/s (true) or particles/s
   double rate = 0.0;                                      ///< [kg/s] or [1/s]; 0 = everything at once
   bool total_by_mass = true;                              ///< total in kg (true) or a count
@@ -72,9 +76,12 @@ class Factory {
   double created_measure() const;  // in the total's measure (kg or count)
 
   FactorySpec spec_;
-  std::vector<double> type_mass_;    // mass of one particle of each type [kg]
-  std::vector<double> type_radius_;  // bounding radius of each type [m]
-  double active_ = 0.0;              // time spent creating [s]
+  std::vector<double> type_mass_;                            // mass of one particle of each type [kg]
+  std::vector<double> type_radius_;                          // bounding radius of each type [m]
+  double active_ = 0.0;                                      // time spent creating [s]
+  Vec3 place(std::size_t type, std::mt19937_64& rng) const;  // a random centre for a particle of a type
+
+  std::vector<double> cumulative_area_;  // surface factories: running sum of the triangles' areas [m2]
   std::mt19937_64 rng_;
   FactoryReport report_;
 };
