@@ -532,11 +532,19 @@ void Simulation::prepare() {
   particles_.update_sphere_positions();
 }
 
+void Simulation::set_part_enabled(std::size_t i, bool enabled) {
+  if (i >= parts_.size()) throw std::out_of_range("Simulation::set_part_enabled: no such part");
+  if (parts_[i].enabled == enabled) return;
+  parts_[i].enabled = enabled;
+  parts_changed_ = true;  // the candidates are found again before the next contacts
+}
+
 void Simulation::save_state(io::BinaryWriter& out) const {
   out.put(static_cast<std::uint64_t>(parts_.size()));
   for (std::size_t w = 0; w < parts_.size(); ++w) {
     const Part& p = parts_[w];
     out.put(p.pose);
+    out.put(p.enabled);
     out.put(p.motion.segments);
     out.put(p.motion.has_servo);
     out.put(p.motion.servo);
@@ -593,6 +601,7 @@ void Simulation::load_state(io::BinaryReader& in) {
   for (std::size_t w = 0; w < parts_.size(); ++w) {
     Part& p = parts_[w];
     in.get(p.pose);
+    in.get(p.enabled);
     in.get(p.motion.segments);
     in.get(p.motion.has_servo);
     in.get(p.motion.servo);
@@ -733,6 +742,7 @@ void Simulation::find_part_candidates() {
   for (std::size_t s = 0; s < n_s; ++s) {
     const double reach = ps.radius[s] + skin;
     for (std::size_t w = 0; w < n_w; ++w) {
+      if (!parts_[w].enabled) continue;
       const PartCache& pc = part_cache_[w];
       const Vec3 p = transpose_times(pc.rotation, ps.sphere_position[s] - parts_[w].pose.position);
       if (p.x < pc.lo.x - reach || p.y < pc.lo.y - reach || p.z < pc.lo.z - reach || p.x > pc.hi.x + reach ||

@@ -394,7 +394,7 @@ Scenario read_scenario(ScenarioDocument document) {
     for (const auto& [name, p] : parts->entries()) {
       const std::string shape =
           p.at("shape").choice({"plane", "disc", "cylinder", "cone", "funnel", "box", "plate", "mesh"});
-      std::vector<std::string_view> keys = {"shape", "material", "position", "motion"};
+      std::vector<std::string_view> keys = {"shape", "material", "position", "motion", "enabled"};
       static const std::map<std::string, std::vector<std::string_view>> shape_keys = {
           {"plane", {"normal"}},
           {"disc", {"radius", "inner_radius", "axis", "angle"}},
@@ -424,8 +424,9 @@ Scenario read_scenario(ScenarioDocument document) {
       }
       Part part = make_part(name, read_shape(p, shape, dir), mat, pose);
       if (const auto m = p.find("motion")) part.motion = read_motion(*m);
-      try {
-        (void)faces_of(part.shape);
+      part.enabled = p.boolean_or("enabled", true);
+      try {  // the simulation's own checks of a part (a plane told to rotate, ...), before any step
+        Simulation(st).add_part(part);
       } catch (const InputError& e) {
         throw p.error(e.problem());
       }
@@ -559,15 +560,18 @@ Scenario read_scenario(ScenarioDocument document) {
     stage.name = s.at("name").text();
     for (const auto& [key, on] : {std::pair<const char*, bool>{"enable", true}, {"disable", false}}) {
       if (const auto list = s.find(key)) {
-        // factories and sinks by name (one list of both, so a typo is matched against all)
-        std::vector<std::string> both = factory_names;
-        both.insert(both.end(), sink_names.begin(), sink_names.end());
+        // factories, sinks and parts by name (one list of all, so a typo is matched against all)
+        std::vector<std::string> all = factory_names;
+        all.insert(all.end(), sink_names.begin(), sink_names.end());
+        all.insert(all.end(), part_names.begin(), part_names.end());
         for (const ScenarioNode& item : list->items()) {
-          const std::size_t k = index_in(item, both, "factory or sink");
+          const std::size_t k = index_in(item, all, "factory, sink or part");
           if (k < factory_names.size()) {
             stage.factories.emplace_back(k, on);
-          } else {
+          } else if (k < factory_names.size() + sink_names.size()) {
             stage.sinks.emplace_back(k - factory_names.size(), on);
+          } else {
+            stage.parts.emplace_back(k - factory_names.size() - sink_names.size(), on);
           }
         }
       }

@@ -419,6 +419,7 @@ class Runner {
         pos_.history_v.clear();
         for (const auto& [f, on] : stage.factories) st_.factory_on[f] = on;
         for (const auto& [k, on] : stage.sinks) st_.sinks[k].enabled = on;
+        for (const auto& [p, on] : stage.parts) sim.set_part_enabled(p, on);
         for (const auto& [p, m] : stage.motions) sim.set_motion(p, shifted(m, pos_.t0));
         pos_.stage_started = true;
       }

@@ -118,6 +118,12 @@ TEST(Scenario, ErrorsNameTheFileLineAndKey) {
             std::string::npos);
   EXPECT_NE(error_of(replaced(small, "height: 40 mm", "height: 140 mm")).find("outside the domain"), std::string::npos);
   EXPECT_NE(error_of(replaced(small, "poisson_ratio: 0.22", "poisson_ratio: 0.7")).find("poisson"), std::string::npos);
+  // the engine's own checks of a part come before the run: a plane cannot turn
+  EXPECT_NE(error_of(replaced(small, "parts:\n",
+                              "parts:\n  floor: {shape: plane, position: 0 0 -5 mm, material: steel, "
+                              "motion: [{rotate: {axis: 1 0 0, speed: 1 rad/s}}]}\n"))
+                .find("key 'parts.floor'"),
+            std::string::npos);
   EXPECT_NE(error_of(replaced(small, "time_step: 0.2 rayleigh", "time_step: 1 ms")).find("above the Rayleigh step"),
             std::string::npos);
   // a value set on the command line is named as such; a parameter at the line that uses it
@@ -213,6 +219,23 @@ TEST_F(ScenarioRun, StagesEndOnTimeAndMoveParts) {
   double z = 0.0;
   for (const auto& [name, v] : r.stages[1].values) z = name == "bottom.position_z" ? v : z;
   EXPECT_NEAR(z, 0.005, 0.05 * sc.settings.dt + 1e-12);  // (the stage may end within a step of it)
+}
+
+TEST_F(ScenarioRun, AStageCanTakeAPartAway) {
+  // With the cup disabled after the fill, all the grain falls into the sink under it.
+  const std::string text = replaced(small, "  - name: settle\n", R"(  - name: drop
+    disable: [cup]
+    until: {time: 0.15 s}
+  - name: settle
+)");
+  const Scenario sc = read(text, {parse_override("parameters.count=40")});
+  RunOptions o;
+  o.out_dir = path("out");
+  o.progress = false;
+  const RunReport r = run_scenario(sc, o);
+  double left = -1.0;
+  for (const auto& [name, v] : r.stages[1].values) left = name == "particles" ? v : left;
+  EXPECT_EQ(left, 0.0);
 }
 
 TEST_F(ScenarioRun, ContinuesBitForBitFromACheckpoint) {

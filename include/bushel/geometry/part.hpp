@@ -15,8 +15,9 @@ struct Part {
   std::string name;  ///< keys the pair table, e.g. "cup"
   ShapeSpec shape;   ///< in the part frame
   Material material;
-  Pose pose;      ///< part frame in the world at the current time
-  Motion motion;  ///< prescribed segments and servo; empty = still
+  Pose pose;            ///< part frame in the world at the current time
+  Motion motion;        ///< prescribed segments and servo; empty = still
+  bool enabled = true;  ///< a disabled part is not touched by particles (a gate taken away)
 
   // --- filled in by the simulation ---------------------------------------------------------
   Vec3 force;               ///< force the particles applied to the part in the last step [N]

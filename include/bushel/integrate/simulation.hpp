@@ -71,6 +71,8 @@ class Simulation {
   std::size_t part_index(const std::string& name) const;
   /// Replaces a part's motion from now on (validated as in add_part).
   void set_motion(std::size_t i, Motion motion);
+  /// Takes a part out of the contacts (false) or puts it back (true) from the next step.
+  void set_part_enabled(std::size_t i, bool enabled);
   /// Faces of a part in the world at its current pose, as triangles (for export).
   TriangleMesh part_surface(std::size_t i, int segments = 64, double plane_half_size = 0.1) const;
 

@@ -49,6 +49,7 @@ struct StageSpec {
   std::string name;
   std::vector<std::pair<std::size_t, bool>> factories;  ///< factory index, enabled
   std::vector<std::pair<std::size_t, bool>> sinks;      ///< sink index, enabled
+  std::vector<std::pair<std::size_t, bool>> parts;      ///< part index, enabled
   std::vector<std::pair<std::size_t, Motion>> motions;  ///< part index, motion (times from the stage start)
   // --- end conditions ------------------------------------------------------------------------
   std::optional<double> duration;                             ///< ends after this time [s]
