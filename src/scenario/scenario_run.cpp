@@ -155,6 +155,18 @@ nlohmann::ordered_json values_json(const std::vector<std::pair<std::string, doub
   return j;
 }
 
+// Each profile as {"sensor": {"radius_m": [...], "height_m": [...]}} (null for empty rings).
+nlohmann::ordered_json profiles_json(const std::vector<StageReport::Profile>& profiles) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (const auto& p : profiles) {
+    nlohmann::ordered_json heights = nlohmann::ordered_json::array();
+    for (const double h : p.height)
+      heights.push_back(std::isfinite(h) ? nlohmann::ordered_json(h) : nlohmann::ordered_json());
+    j[p.sensor] = {{"radius_m", p.radius}, {"height_m", heights}};
+  }
+  return j;
+}
+
 // FNV-1a over the bits of the bodies' state: equal hashes, equal runs (restart, threads).
 std::uint64_t state_hash(const ParticleSystem& ps) {
   std::uint64_t h = 1469598103934665603ULL;
@@ -199,6 +211,8 @@ void put(io::BinaryWriter& out, const StageReport& r) {
   out.put(r.steps);
   out.put(static_cast<std::uint64_t>(r.values.size()));
   for (const auto& [k, v] : r.values) out.put(k), out.put(v);
+  out.put(static_cast<std::uint64_t>(r.profiles.size()));
+  for (const auto& p : r.profiles) out.put(p.sensor), out.put(p.radius), out.put(p.height);
 }
 
 StageReport get_report(io::BinaryReader& in) {
@@ -213,6 +227,8 @@ StageReport get_report(io::BinaryReader& in) {
     auto name = in.get<std::string>();
     r.values.emplace_back(std::move(name), in.get<double>());
   }
+  r.profiles.resize(in.get<std::uint64_t>());
+  for (auto& p : r.profiles) in.get(p.sensor), in.get(p.radius), in.get(p.height);
   return r;
 }
 
@@ -468,9 +484,14 @@ class Runner {
         progress_line(stage, limit);
       }
       if (interrupted) break;
-      StageReport sr{stage.name, end, pos_.t0, sim.time(), sim.steps() - pos_.steps0, {}};
+      StageReport sr{stage.name, end, pos_.t0, sim.time(), sim.steps() - pos_.steps0, {}, {}};
       const auto v = st_.values();
       for (std::size_t k = 0; k < v.size(); ++k) sr.values.emplace_back(st_.names[k], v[k]);
+      for (const auto& k : sc_.sensors) {
+        if (k.kind != SensorSpec::Kind::heap) continue;
+        const HeapProfile h = heap_profile(sim, k.centre.x, k.centre.y, k.outer, k.rings);
+        sr.profiles.push_back({k.name, h.radius, h.height});
+      }
       if (o_.progress) {
         fmt::print(stderr, "{}stage {}/{} {} ended by {} at t = {:.4f} s ({} steps)\n", tty_ ? "\r" : "",
                    pos_.stage + 1, sc_.stages.size(), stage.name, end, sim.time(), sr.steps);
@@ -542,7 +563,8 @@ class Runner {
                         {"start_s", s.start},
                         {"end_s", s.end},
                         {"steps", s.steps},
-                        {"values", values_json(s.values)}});
+                        {"values", values_json(s.values)},
+                        {"heap_profiles", profiles_json(s.profiles)}});
     }
     j["stages"] = stages;
     nlohmann::ordered_json factories = nlohmann::ordered_json::array();

@@ -47,6 +47,7 @@ sensors:
   cup: {kind: region, region: {shape: cylinder, radius: 15 mm, height: 10 mm}}
   bottom: {kind: part, part: cup, axis: 0 0 -1, area: 706.86 mm2}
   inflow: {kind: flow, point: 0 0 42 mm, normal: 0 0 -1}
+  surface: {kind: heap, radius: 15 mm, rings: 5}
 stages:
   - name: fill
     until: {factories_done: true, max_time: 0.1 s}
@@ -188,6 +189,13 @@ TEST_F(ScenarioRun, FillsSettlesAndWritesItsOutputs) {
   // every particle crossed the plane above the cup once, downwards
   EXPECT_NEAR(end["inflow.mass"].get<double>(), end["created_mass"].get<double>(), 1e-12);
   EXPECT_EQ(end["inflow.rate"].get<double>(), 0.0);  // nothing crossed in the last 50 ms
+  // the heap's surface: every ring of the cup holds grain, below the highest point
+  const auto& profile = j["stages"][1]["heap_profiles"]["surface"];
+  ASSERT_EQ(profile["height_m"].size(), 5u);
+  for (const auto& h : profile["height_m"]) {
+    EXPECT_GT(h.get<double>(), 0.005);
+    EXPECT_LE(h.get<double>(), end["surface.height"].get<double>());
+  }
 
   const auto table = io::read_text_file(path("out/timeseries.csv"));
   std::istringstream lines(table);

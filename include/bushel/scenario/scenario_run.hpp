@@ -36,6 +36,13 @@ struct StageReport {
   double start = 0.0, end = 0.0;  ///< [s]
   std::uint64_t steps = 0;
   std::vector<std::pair<std::string, double>> values;  ///< every value at the stage's end
+  /// Each heap sensor's surface at the stage's end: its name, ring radii [m], heights [m]
+  /// (NaN where a ring holds no grain).
+  struct Profile {
+    std::string sensor;
+    std::vector<double> radius, height;
+  };
+  std::vector<Profile> profiles;
 };
 
 struct RunReport {
