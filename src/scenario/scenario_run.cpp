@@ -76,8 +76,8 @@ struct RunState {
     return n > 0 ? sim.particles().kinetic_energy() / static_cast<double>(n) : 0.0;
   }
 
-  // Every value, in the order of `names`.
-  std::vector<double> values() const {
+  // The global values, in the order of global_value_names().
+  std::vector<double> global_values() const {
     const ParticleSystem& ps = sim.particles();
     std::vector<double> v;
     v.reserve(names.size());
@@ -102,43 +102,69 @@ struct RunState {
          removed,
          lost_mass,
          lost_count};
-    std::size_t flow = 0;
-    for (const auto& s : sc.sensors) {
-      switch (s.kind) {
-        case SensorSpec::Kind::region: {
-          const RegionReading r = read_region(sim, s.region);
-          v.insert(v.end(), {r.mass, static_cast<double>(r.count), r.bulk_density, r.bulk_density_exact,
-                             r.packing_fraction, r.coordination});
-          v.insert(v.end(), r.mass_fraction.begin(), r.mass_fraction.end());
-          break;
-        }
-        case SensorSpec::Kind::part: {
-          const Part& p = sim.part(s.part);
-          const double along = dot(p.force, s.axis);
-          v.push_back(along);
-          if (s.area > 0.0) v.push_back(along / s.area);
-          v.insert(v.end(), {p.force.x, p.force.y, p.force.z, p.torque.x, p.torque.y, p.torque.z, p.pose.position.z});
-          break;
-        }
-        case SensorSpec::Kind::heap: {
-          const HeapProfile h = heap_profile(sim, s.centre.x, s.centre.y, s.outer, s.rings);
-          double top = 0.0;
-          for (const double x : h.height) top = std::isfinite(x) ? std::max(top, x) : top;
-          v.insert(v.end(), {top, h.angle * 180.0 / std::numbers::pi});
-          break;
-        }
-        case SensorSpec::Kind::flow:
-          v.insert(v.end(), {flows[flow].mass(), flows[flow].rate()});
-          ++flow;
-          break;
+    return v;
+  }
+
+  // Sensor i's values, in the order of SensorSpec::values; `flow` indexes its PlaneFlow.
+  void append_sensor(std::size_t i, std::size_t flow, std::vector<double>& v) const {
+    const SensorSpec& s = sc.sensors[i];
+    switch (s.kind) {
+      case SensorSpec::Kind::region: {
+        const RegionReading r = read_region(sim, s.region);
+        v.insert(v.end(), {r.mass, static_cast<double>(r.count), r.bulk_density, r.bulk_density_exact,
+                           r.packing_fraction, r.coordination});
+        v.insert(v.end(), r.mass_fraction.begin(), r.mass_fraction.end());
+        break;
       }
+      case SensorSpec::Kind::part: {
+        const Part& p = sim.part(s.part);
+        const double along = dot(p.force, s.axis);
+        v.push_back(along);
+        if (s.area > 0.0) v.push_back(along / s.area);
+        v.insert(v.end(), {p.force.x, p.force.y, p.force.z, p.torque.x, p.torque.y, p.torque.z, p.pose.position.z});
+        break;
+      }
+      case SensorSpec::Kind::heap: {
+        const HeapProfile h = heap_profile(sim, s.centre.x, s.centre.y, s.outer, s.rings);
+        double top = 0.0;
+        for (const double x : h.height) top = std::isfinite(x) ? std::max(top, x) : top;
+        v.insert(v.end(), {top, h.angle * 180.0 / std::numbers::pi});
+        break;
+      }
+      case SensorSpec::Kind::flow:
+        v.insert(v.end(), {flows[flow].mass(), flows[flow].rate()});
+        break;
+    }
+  }
+
+  // Every value, in the order of `names`.
+  std::vector<double> values() const {
+    std::vector<double> v = global_values();
+    for (std::size_t i = 0, flow = 0; i < sc.sensors.size(); ++i) {
+      append_sensor(i, flow, v);
+      flow += sc.sensors[i].kind == SensorSpec::Kind::flow ? 1 : 0;
     }
     return v;
   }
 
+  // One value ("cup.bulk_density" or a global), reading only what it needs.
   double value(const std::string& name) const {
-    const auto all = values();
-    return all[static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin())];
+    const auto& g = global_value_names();
+    if (const auto it = std::find(g.begin(), g.end(), name); it != g.end()) {
+      return global_values()[static_cast<std::size_t>(it - g.begin())];
+    }
+    for (std::size_t i = 0, flow = 0; i < sc.sensors.size(); ++i) {
+      const SensorSpec& s = sc.sensors[i];
+      const auto own = s.values(type_names);
+      if (const auto it = std::find(own.begin(), own.end(), name.substr(std::min(name.size(), s.name.size() + 1)));
+          name.starts_with(s.name + ".") && it != own.end()) {
+        std::vector<double> v;
+        append_sensor(i, flow, v);
+        return v[static_cast<std::size_t>(it - own.begin())];
+      }
+      flow += s.kind == SensorSpec::Kind::flow ? 1 : 0;
+    }
+    return std::numeric_limits<double>::quiet_NaN();  // (names were checked by read_scenario)
   }
 };
 

@@ -229,6 +229,37 @@ TEST_F(ScenarioRun, StagesEndOnTimeAndMoveParts) {
   EXPECT_NEAR(z, 0.005, 0.05 * sc.settings.dt + 1e-12);  // (the stage may end within a step of it)
 }
 
+TEST_F(ScenarioRun, StagesEndOnAStableValueAndOnAHeldServo) {
+  // Settle until the cup's mass is stable, then a lid (disabled until then) is lowered onto
+  // the grain by a servo to 0.5 N, until it has held the force for 10 ms. (The gain is
+  // chosen for stability: gain x contact stiffness x dt well below 1.)
+  std::string text = replaced(small, "parts:\n", R"(parts:
+  lid:
+    shape: disc
+    radius: 14 mm
+    position: 0 0 24 mm
+    material: steel
+    enabled: false
+)");
+  text = replaced(text, "    until: {kinetic_energy: 1 nJ, min_time: 20 ms, max_time: 0.3 s}\n",
+                  R"(    until: {stable: {value: cup.mass, tolerance: 0.1%, window: 30 ms}, max_time: 0.4 s}
+  - name: press
+    enable: [lid]
+    motions:
+      lid: [{servo: {axis: 0 0 -1, force: 0.5 N, gain: 0.02, max_speed: 0.05 m/s, tolerance: 5%}}]
+    until: {servo_held: {part: lid, hold: 10 ms}, max_time: 0.8 s}
+)");
+  const Scenario sc = read(text);
+  RunOptions o;
+  o.out_dir = path("out");
+  o.progress = false;
+  const RunReport r = run_scenario(sc, o);
+  ASSERT_EQ(r.stages.size(), 3u);
+  EXPECT_EQ(r.stages[1].ended_by, "stable");
+  EXPECT_GE(r.stages[1].end - r.stages[1].start, 0.03);
+  EXPECT_EQ(r.stages[2].ended_by, "servo_held");
+}
+
 TEST_F(ScenarioRun, AStageCanTakeAPartAway) {
   // With the cup disabled after the fill, all the grain falls into the sink under it.
   const std::string text = replaced(small, "  - name: settle\n", R"(  - name: drop

@@ -13,13 +13,9 @@
 #include <vector>
 
 #include "bushel/core/vec3.hpp"
+#include "bushel/io/archive_fwd.hpp"
 
 namespace bushel {
-
-namespace io {
-class BinaryWriter;
-class BinaryReader;
-}  // namespace io
 
 class NeighborList {
  public:

@@ -15,13 +15,9 @@
 #include "bushel/geometry/region.hpp"
 #include "bushel/geometry/triangle_mesh.hpp"
 #include "bushel/integrate/simulation.hpp"
+#include "bushel/io/archive_fwd.hpp"
 
 namespace bushel {
-
-namespace io {
-class BinaryWriter;
-class BinaryReader;
-}  // namespace io
 
 struct FactorySpec {
   std::string name;

@@ -10,11 +10,9 @@
 #include <vector>
 
 #include "bushel/integrate/simulation.hpp"
+#include "bushel/io/archive_fwd.hpp"
 
 namespace bushel::io {
-
-class BinaryWriter;
-class BinaryReader;
 
 class FrameWriter {
  public:

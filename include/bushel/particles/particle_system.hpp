@@ -12,14 +12,10 @@
 #include "bushel/core/mat3.hpp"
 #include "bushel/core/quat.hpp"
 #include "bushel/core/vec3.hpp"
+#include "bushel/io/archive_fwd.hpp"
 #include "bushel/particles/particle_type.hpp"
 
 namespace bushel {
-
-namespace io {
-class BinaryWriter;
-class BinaryReader;
-}  // namespace io
 
 struct BodyState {
   Vec3 position;          ///< centre of mass [m]

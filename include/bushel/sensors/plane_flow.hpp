@@ -7,14 +7,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "bushel/io/archive_fwd.hpp"
 #include "bushel/particles/particle_system.hpp"
 
 namespace bushel {
-
-namespace io {
-class BinaryWriter;
-class BinaryReader;
-}  // namespace io
 
 class PlaneFlow {
  public:

@@ -1,0 +1,8 @@
+#pragma once
+// The checkpoint archive's classes (binary_archive.hpp), declared for the headers of classes
+// that save and load themselves.
+
+namespace bushel::io {
+class BinaryWriter;
+class BinaryReader;
+}  // namespace bushel::io
