@@ -2,6 +2,7 @@
 
 #include "bushel/core/input_error.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <utility>
@@ -19,6 +20,16 @@ Part make_part(std::string name, ShapeSpec shape, Material material, Pose pose) 
 
 Part plane_part(std::string name, Material material, const Vec3& point, const Vec3& normal) {
   return make_part(std::move(name), PlaneSpec{}, std::move(material), {point, orientation_towards(normal)});
+}
+
+// Every point of a turning infinite plane would move without bound.
+void validate_motion(const ShapeSpec& shape, const Motion& motion) {
+  motion.validate();
+  if (std::holds_alternative<PlaneSpec>(shape) &&
+      std::any_of(motion.segments.begin(), motion.segments.end(),
+                  [](const MotionSegment& m) { return m.kind == MotionSegment::Kind::rotate; })) {
+    throw InputError("an infinite plane cannot rotate; use a plate or a disc").with_key("motion");
+  }
 }
 
 Quat orientation_towards(const Vec3& direction) {

@@ -391,20 +391,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
 
 }  // namespace
 
-namespace {
-
-// A motion's own checks, plus what the shape allows: an infinite plane may translate but
-// not rotate (every point of it would move without bound).
-void validate_motion(const ShapeSpec& shape, const Motion& motion) {
-  motion.validate();
-  if (std::holds_alternative<PlaneSpec>(shape) &&
-      std::any_of(motion.segments.begin(), motion.segments.end(),
-                  [](const MotionSegment& m) { return m.kind == MotionSegment::Kind::rotate; })) {
-    throw InputError("an infinite plane cannot rotate; use a plate or a disc").with_key("motion");
-  }
-}
-
-}  // namespace
+namespace {}  // namespace
 
 Simulation::Simulation(SimulationSettings settings)
     : settings_(std::move(settings)), rolling_(rolling_model(settings_.rolling)), neighbors_(1.0, 3) {

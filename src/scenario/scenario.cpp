@@ -201,6 +201,16 @@ ContactParameters read_contact(const ScenarioNode& n, const ContactParameters& b
   return p;
 }
 
+// The simulation's own checks of a part (what its shape allows of its motion, its pose,
+// faces), before any step: the run would meet them in add_part.
+void check_part(const ScenarioNode& n, const Part& part, const SimulationSettings& settings) {
+  try {
+    Simulation(settings).add_part(part);
+  } catch (const InputError& e) {
+    throw n.error(e.problem());
+  }
+}
+
 // Bounds of a part's faces in the world [m].
 std::pair<Vec3, Vec3> part_bounds(const Part& part) {
   const TriangleMesh mesh = tessellate(faces_of(part.shape), 32, 0.0);
@@ -406,15 +416,7 @@ Scenario read_scenario(ScenarioDocument document) {
           {"mesh", {"file", "unit", "axis", "angle"}}};
       const auto& extra = shape_keys.at(shape);
       keys.insert(keys.end(), extra.begin(), extra.end());
-      // allow_only takes an initializer list; check by hand against the shape's keys
-      for (const auto& [key, value] : p.entries()) {
-        if (std::find(keys.begin(), keys.end(), key) != keys.end()) continue;
-        const std::vector<std::string> known(keys.begin(), keys.end());
-        std::string list;
-        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-        throw value.error("unknown key '" + key + "' for a " + shape + did_you_mean(key, known) + "; expected one of " +
-                          list);
-      }
+      p.allow_only(keys, "a " + shape);
       const Material& mat = materials.at(material_names[index_in(p.at("material"), material_names, "material")]);
       Pose pose{p.vector_or("position", dim::length, {}), Quat::identity()};
       if (shape == "plane") {
@@ -425,11 +427,7 @@ Scenario read_scenario(ScenarioDocument document) {
       Part part = make_part(name, read_shape(p, shape, dir), mat, pose);
       if (const auto m = p.find("motion")) part.motion = read_motion(*m);
       part.enabled = p.boolean_or("enabled", true);
-      try {  // the simulation's own checks of a part (a plane told to rotate, ...), before any step
-        Simulation(st).add_part(part);
-      } catch (const InputError& e) {
-        throw p.error(e.problem());
-      }
+      check_part(p, part, st);
       if (shape != "plane") {
         const auto [lo, hi] = part_bounds(part);
         require_inside(p, lo, hi, sc.domain, "the part");
@@ -579,12 +577,13 @@ Scenario read_scenario(ScenarioDocument document) {
     if (const auto motions = s.find("motions")) {
       for (const auto& [pname, list] : motions->entries()) {
         const std::size_t part = index_named(list, pname, part_names, "part");
-        if (kind_name(sc.parts[part].shape) == "plane") {
-          for (const auto& seg : list.items()) {
-            if (seg.has("rotate")) throw seg.error("a plane cannot rotate");
-          }
+        Motion motion = read_motion(list);
+        try {  // what the part's shape allows, as Simulation::set_motion will check
+          validate_motion(sc.parts[part].shape, motion);
+        } catch (const InputError& e) {
+          throw list.error(e.problem());
         }
-        stage.motions.emplace_back(part, read_motion(list));
+        stage.motions.emplace_back(part, std::move(motion));
       }
     }
     const ScenarioNode until = s.at("until");

@@ -61,14 +61,15 @@ std::vector<std::pair<std::string, ScenarioNode>> ScenarioNode::entries() const 
   return out;
 }
 
-void ScenarioNode::allow_only(std::initializer_list<std::string_view> allowed) const {
+void ScenarioNode::allow_only(std::span<const std::string_view> allowed, std::string_view what) const {
   if (!node_.IsMap()) throw error("expected a map (key: value lines)");
-  const std::vector<std::string> known = strings(allowed);
+  const std::vector<std::string> known(allowed.begin(), allowed.end());
   for (const auto& kv : node_) {
     const auto key = kv.first.as<std::string>();
     if (std::find(known.begin(), known.end(), key) != known.end()) continue;
     throw child(kv.second, key)
-        .error("unknown key '" + key + "'" + did_you_mean(key, known) + "; expected one of " + join(known));
+        .error("unknown key '" + key + "'" + (what.empty() ? "" : " for " + std::string(what)) +
+               did_you_mean(key, known) + "; expected one of " + join(known));
   }
 }
 

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bushel/core/input_error.hpp"
+#include "bushel/core/sample_window.hpp"
 #include "bushel/insertion/sink.hpp"
 #include "bushel/io/atomic_file.hpp"
 #include "bushel/io/binary_archive.hpp"
@@ -147,6 +148,14 @@ struct RunState {
     return v;
   }
 
+  // Every value with its name.
+  std::vector<std::pair<std::string, double>> named_values() const {
+    const auto v = values();
+    std::vector<std::pair<std::string, double>> out;
+    for (std::size_t k = 0; k < v.size(); ++k) out.emplace_back(names[k], v[k]);
+    return out;
+  }
+
   // One value ("cup.bulk_density" or a global), reading only what it needs.
   double value(const std::string& name) const {
     const auto& g = global_value_names();
@@ -167,6 +176,13 @@ struct RunState {
     return std::numeric_limits<double>::quiet_NaN();  // (names were checked by read_scenario)
   }
 };
+
+// The scenario as resolved (overrides applied, parameters substituted), as YAML text.
+std::string echo_text(const ScenarioDocument& doc) {
+  YAML::Emitter echo;
+  echo << doc.root;
+  return echo.c_str();
+}
 
 std::string format_duration(double s) {
   if (!std::isfinite(s) || s < 0) return "?";
@@ -216,12 +232,12 @@ extern "C" void on_interrupt(int) { interrupt_requested.store(true); }
 
 // Where a run stands between checks: enough, with the simulation's state, to continue it.
 struct Position {
-  std::uint64_t stage = 0;                   // index of the current stage
-  bool stage_started = false;                // its actions (switches, motions) are done
-  double t0 = 0.0;                           // its start [s]
-  std::uint64_t steps0 = 0;                  // steps at its start
-  std::vector<double> history_t, history_v;  // the stable condition's samples
-  double next_row = 0.0, next_frame = 0.0;   // [s]
+  std::uint64_t stage = 0;                  // index of the current stage
+  bool stage_started = false;               // its actions (switches, motions) are done
+  double t0 = 0.0;                          // its start [s]
+  std::uint64_t steps0 = 0;                 // steps at its start
+  SampleWindow history;                     // the stable condition's samples
+  double next_row = 0.0, next_frame = 0.0;  // [s]
   double particle_steps = 0.0;
   double wall_before = 0.0;        // wall time of earlier sittings [s]
   std::uint64_t series_bytes = 0;  // timeseries.csv up to the last row
@@ -317,9 +333,7 @@ class Runner {
     io::BinaryWriter out;
     out.put(std::string(checkpoint_magic));
     out.put(sc_.document.file);
-    YAML::Emitter echo;
-    echo << sc_.document.root;
-    out.put(std::string(echo.c_str()));
+    out.put(echo_text(sc_.document));
     out.put(static_cast<std::uint64_t>(sc_.document.overrides.size()));
     for (const auto& ov : sc_.document.overrides) out.put(ov.path), out.put(ov.value);
     out.put(static_cast<std::uint64_t>(sc_.document.parameters.size()));
@@ -328,8 +342,8 @@ class Runner {
     out.put(pos_.stage_started);
     out.put(pos_.t0);
     out.put(pos_.steps0);
-    out.put(pos_.history_t);
-    out.put(pos_.history_v);
+    out.put(pos_.history.time);
+    out.put(pos_.history.value);
     out.put(pos_.next_row);
     out.put(pos_.next_frame);
     out.put(pos_.particle_steps);
@@ -359,8 +373,8 @@ class Runner {
     in.get(pos_.stage_started);
     in.get(pos_.t0);
     in.get(pos_.steps0);
-    in.get(pos_.history_t);
-    in.get(pos_.history_v);
+    in.get(pos_.history.time);
+    in.get(pos_.history.value);
     in.get(pos_.next_row);
     in.get(pos_.next_frame);
     in.get(pos_.particle_steps);
@@ -410,17 +424,12 @@ class Runner {
         if (s.held && s.held_since >= 0.0 && sim.time() - s.held_since >= stage.servo_hold) return "servo_held";
       }
       if (stage.stable) {
-        auto& t = pos_.history_t;
-        auto& v = pos_.history_v;
-        if (t.empty() || t.back() < sim.time()) {  // (once per time: a restart checks again)
-          t.push_back(sim.time());
-          v.push_back(st_.value(*stage.stable));
+        SampleWindow& w = pos_.history;
+        if (w.time.empty() || w.time.back() < sim.time()) {  // (once per time: a restart checks again)
+          w.add(sim.time(), st_.value(*stage.stable), stage.stable_window);
         }
-        std::size_t drop = 0;  // samples older than the window, keeping one at or before its start
-        while (t.size() - drop > 2 && t[drop + 1] <= sim.time() - stage.stable_window) ++drop;
-        t.erase(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(drop));
-        v.erase(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(drop));
-        if (t.front() <= sim.time() - stage.stable_window + 0.5 * dt) {
+        const auto& v = w.value;
+        if (w.time.front() <= sim.time() - stage.stable_window + 0.5 * dt) {
           const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
           if (*hi - *lo <= stage.stable_tolerance * std::max(std::abs(*lo), std::abs(*hi))) return "stable";
         }
@@ -457,8 +466,7 @@ class Runner {
       if (!pos_.stage_started) {
         pos_.t0 = sim.time();
         pos_.steps0 = sim.steps();
-        pos_.history_t.clear();
-        pos_.history_v.clear();
+        pos_.history = {};
         for (const auto& [f, on] : stage.factories) st_.factory_on[f] = on;
         for (const auto& [k, on] : stage.sinks) st_.sinks[k].enabled = on;
         for (const auto& [p, on] : stage.parts) sim.set_part_enabled(p, on);
@@ -511,8 +519,7 @@ class Runner {
       }
       if (interrupted) break;
       StageReport sr{stage.name, end, pos_.t0, sim.time(), sim.steps() - pos_.steps0, {}, {}};
-      const auto v = st_.values();
-      for (std::size_t k = 0; k < v.size(); ++k) sr.values.emplace_back(st_.names[k], v[k]);
+      sr.values = st_.named_values();
       for (const auto& k : sc_.sensors) {
         if (k.kind != SensorSpec::Kind::heap) continue;
         const HeapProfile h = heap_profile(sim, k.centre.x, k.centre.y, k.outer, k.rings);
@@ -572,9 +579,7 @@ class Runner {
     for (const auto& ov : sc_.document.overrides) overrides.push_back(ov.path + "=" + ov.value);
     j["overrides"] = overrides;
     j["parameters"] = sc_.document.parameters;
-    YAML::Emitter echo;
-    echo << sc_.document.root;
-    j["echo"] = std::string(echo.c_str());
+    j["echo"] = echo_text(sc_.document);
     j["interrupted"] = report.interrupted;
     j["dt_s"] = sc_.settings.dt;
     j["rayleigh_step_s"] = sc_.rayleigh_step;
@@ -626,10 +631,7 @@ class Runner {
     for (const auto& k : st_.sinks) sinks.push_back(sink_json(k));
     j["sinks"] = sinks;
     j["lost"] = sink_json(st_.lost);
-    std::vector<std::pair<std::string, double>> now;
-    const auto v = st_.values();
-    for (std::size_t k = 0; k < v.size(); ++k) now.emplace_back(st_.names[k], v[k]);
-    j["final"] = values_json(now);
+    j["final"] = values_json(st_.named_values());
     j["final_state_hash"] = fmt::format("{:016x}", state_hash(st_.sim.particles()));
     j["warnings"] = report.warnings;
     io::write_file_atomically((fs::path(o_.out_dir) / "summary.json").string(), j.dump(2) + "\n");

@@ -15,32 +15,28 @@ void PlaneFlow::update(const ParticleSystem& ps, double t) {
     if (side_[id] != 0 && side_[id] != s) mass_ += s * ps.mass[b];
     side_[id] = s;
   }
-  time_.push_back(t);
-  total_.push_back(mass_);
-  // keep one sample at or before the window's start
-  std::size_t drop = 0;
-  while (time_.size() - drop > 2 && time_[drop + 1] <= t - window_) ++drop;
-  time_.erase(time_.begin(), time_.begin() + static_cast<std::ptrdiff_t>(drop));
-  total_.erase(total_.begin(), total_.begin() + static_cast<std::ptrdiff_t>(drop));
+  samples_.add(t, mass_, window_);
 }
 
 double PlaneFlow::rate() const {
-  if (time_.size() < 2 || !(time_.back() > time_.front())) return 0.0;
-  return (total_.back() - total_.front()) / (time_.back() - time_.front());
+  const auto& t = samples_.time;
+  const auto& m = samples_.value;
+  if (t.size() < 2 || !(t.back() > t.front())) return 0.0;
+  return (m.back() - m.front()) / (t.back() - t.front());
 }
 
 void PlaneFlow::save(io::BinaryWriter& out) const {
   out.put(mass_);
   out.put(side_);
-  out.put(time_);
-  out.put(total_);
+  out.put(samples_.time);
+  out.put(samples_.value);
 }
 
 void PlaneFlow::load(io::BinaryReader& in) {
   in.get(mass_);
   in.get(side_);
-  in.get(time_);
-  in.get(total_);
+  in.get(samples_.time);
+  in.get(samples_.value);
 }
 
 }  // namespace bushel

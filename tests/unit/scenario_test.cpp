@@ -142,7 +142,16 @@ TEST(Scenario, ErrorsNameTheFileLineAndKey) {
             std::string::npos);
 }
 
-class ScenarioRun : public TempDirTest {};
+class ScenarioRun : public TempDirTest {
+ protected:
+  // Runs the scenario into path("out"), quietly.
+  RunReport run(const Scenario& sc) {
+    RunOptions o;
+    o.out_dir = path("out");
+    o.progress = false;
+    return run_scenario(sc, o);
+  }
+};
 
 TEST_F(ScenarioRun, ReadsAFactorySurfaceFromAnStlNextToTheScenario) {
   io::write_stl(path("sheet.stl"), square_mesh(20.0, 2));  // 20 mm, in mm
@@ -160,10 +169,7 @@ TEST_F(ScenarioRun, ReadsAFactorySurfaceFromAnStlNextToTheScenario) {
 
 TEST_F(ScenarioRun, FillsSettlesAndWritesItsOutputs) {
   const Scenario sc = read(small);
-  RunOptions o;
-  o.out_dir = path("out");
-  o.progress = false;
-  const RunReport r = run_scenario(sc, o);
+  const RunReport r = run(sc);
   ASSERT_EQ(r.stages.size(), 2u);
   EXPECT_EQ(r.stages[0].ended_by, "factories_done");
   EXPECT_EQ(r.stages[1].ended_by, "kinetic_energy");
@@ -217,10 +223,7 @@ TEST_F(ScenarioRun, StagesEndOnTimeAndMoveParts) {
   - name: settle
 )");
   const Scenario sc = read(text, {parse_override("parameters.count=20")});
-  RunOptions o;
-  o.out_dir = path("out");
-  o.progress = false;
-  const RunReport r = run_scenario(sc, o);
+  const RunReport r = run(sc);
   ASSERT_EQ(r.stages.size(), 3u);
   EXPECT_EQ(r.stages[1].ended_by, "time");
   EXPECT_NEAR(r.stages[1].end - r.stages[1].start, 0.1, sc.settings.dt);
@@ -250,10 +253,7 @@ TEST_F(ScenarioRun, StagesEndOnAStableValueAndOnAHeldServo) {
     until: {servo_held: {part: lid, hold: 10 ms}, max_time: 0.8 s}
 )");
   const Scenario sc = read(text);
-  RunOptions o;
-  o.out_dir = path("out");
-  o.progress = false;
-  const RunReport r = run_scenario(sc, o);
+  const RunReport r = run(sc);
   ASSERT_EQ(r.stages.size(), 3u);
   EXPECT_EQ(r.stages[1].ended_by, "stable");
   EXPECT_GE(r.stages[1].end - r.stages[1].start, 0.03);
@@ -268,10 +268,7 @@ TEST_F(ScenarioRun, AStageCanTakeAPartAway) {
   - name: settle
 )");
   const Scenario sc = read(text, {parse_override("parameters.count=40")});
-  RunOptions o;
-  o.out_dir = path("out");
-  o.progress = false;
-  const RunReport r = run_scenario(sc, o);
+  const RunReport r = run(sc);
   double left = -1.0;
   for (const auto& [name, v] : r.stages[1].values) left = name == "particles" ? v : left;
   EXPECT_EQ(left, 0.0);

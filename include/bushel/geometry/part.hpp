@@ -31,6 +31,9 @@ struct Part {
 Part make_part(std::string name, ShapeSpec shape, Material material, Pose pose = {});
 /// The infinite plane through `point` [m] whose unit `normal` points to where particles live.
 Part plane_part(std::string name, Material material, const Vec3& point, const Vec3& normal);
+/// A motion's own checks (Motion::validate) plus what the shape allows: an infinite plane
+/// may translate but not rotate. Throws InputError keyed "motion...".
+void validate_motion(const ShapeSpec& shape, const Motion& motion);
 /// The orientation that turns the part frame's +z onto the unit vector `direction`.
 Quat orientation_towards(const Vec3& direction);
 

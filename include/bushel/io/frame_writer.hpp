@@ -1,9 +1,10 @@
 #pragma once
 // Frames of a run for ParaView: at each call, the sphere elements (points with radius,
-// velocity, body id, particle type and the body's orientation quaternion) and the geometry parts at their current pose
-// (triangles with the part index and name order of the simulation) go to DIR/particles_NNNNN.vtu and
-// DIR/geometry_NNNNN.vtu; particles.pvd and geometry.pvd put the frames on the time axis and
-// are rewritten (atomically) after every frame, so an interrupted run leaves a readable set.
+// velocity, body id, particle type and the body's orientation quaternion) and the geometry
+// parts at their current pose (triangles with the part index and name order of the
+// simulation) go to DIR/particles_NNNNN.vtu and DIR/geometry_NNNNN.vtu; particles.pvd and
+// geometry.pvd put the frames on the time axis and are rewritten (atomically) after every
+// frame, so an interrupted run leaves a readable set.
 
 #include <string>
 #include <utility>

@@ -5,6 +5,7 @@
 
 #include <initializer_list>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -41,8 +42,12 @@ class ScenarioNode {
   std::optional<ScenarioNode> find(const std::string& key) const;
   /// Keys and values in file order; an error unless this is a map.
   std::vector<std::pair<std::string, ScenarioNode>> entries() const;
-  /// An error for the first key not in `allowed` (with a did-you-mean and the list of keys).
-  void allow_only(std::initializer_list<std::string_view> allowed) const;
+  /// An error for the first key not in `allowed` (with a did-you-mean and the list of keys);
+  /// `what` names the kind of map in the message ("for a cylinder"), if given.
+  void allow_only(std::span<const std::string_view> allowed, std::string_view what = "") const;
+  void allow_only(std::initializer_list<std::string_view> allowed) const {
+    allow_only(std::span<const std::string_view>(allowed.begin(), allowed.size()));
+  }
   /// An error unless exactly one of `keys` is present; returns it.
   std::string one_of(std::initializer_list<std::string_view> keys) const;
 

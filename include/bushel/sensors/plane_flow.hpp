@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bushel/core/sample_window.hpp"
 #include "bushel/io/archive_fwd.hpp"
 #include "bushel/particles/particle_system.hpp"
 
@@ -29,8 +30,8 @@ class PlaneFlow {
   Vec3 point_, normal_;
   double window_;
   double mass_ = 0.0;
-  std::vector<std::int8_t> side_;     // by body id: +1 on the normal's side, -1 behind, 0 unseen
-  std::vector<double> time_, total_;  // samples (time, mass) over the last window
+  std::vector<std::int8_t> side_;  // by body id: +1 on the normal's side, -1 behind, 0 unseen
+  SampleWindow samples_;           // (time, mass) over the last window
 };
 
 }  // namespace bushel
