@@ -1,5 +1,7 @@
 #include "bushel/scenario/scenario_document.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <fstream>
 #include <sstream>
@@ -8,6 +10,7 @@
 
 #include "bushel/core/did_you_mean.hpp"
 #include "bushel/core/input_error.hpp"
+#include "bushel/units/expression.hpp"
 
 namespace bushel {
 namespace {
@@ -86,7 +89,37 @@ void apply(YAML::Node root, const Override& o) {
   }
 }
 
-// Replaces each ${name} in a scalar's text.
+// The text a ${...} stands for: a parameter's own text for a bare name ("${drop}" gives
+// "5.1 cm"), else the expression's value in SI with its unit ("${2 * drop}" gives "0.102 m").
+std::string expand(const std::string& inside, const std::map<std::string, std::string>& parameters,
+                   const std::vector<std::string>& names) {
+  auto unknown = [&](const std::string& name) {
+    std::string declared;
+    for (const auto& n : names) declared += (declared.empty() ? "" : ", ") + n;
+    return InputError("unknown parameter '" + name + "'" + did_you_mean(name, names) +
+                      "; the parameters: section declares " + (declared.empty() ? "none" : declared));
+  };
+  std::string bare = inside;
+  while (!bare.empty() && bare.front() == ' ') bare.erase(bare.begin());
+  while (!bare.empty() && bare.back() == ' ') bare.pop_back();
+  if (const auto it = parameters.find(bare); it != parameters.end()) return it->second;
+  const bool is_name = !bare.empty() && std::all_of(bare.begin(), bare.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_';
+  });
+  if (is_name) throw unknown(bare);
+  const units::NameLookup lookup = [&](const std::string& name) {
+    const auto it = parameters.find(name);
+    if (it == parameters.end()) throw unknown(name);
+    try {
+      return units::parse_quantity(it->second);
+    } catch (const InputError&) {
+      throw InputError("parameter '" + name + "' is '" + it->second + "', not a number or a quantity");
+    }
+  };
+  return units::format_si(units::evaluate(bare, lookup));
+}
+
+// Replaces each ${...} in a scalar's text.
 std::string substitute(const std::string& text, const std::map<std::string, std::string>& parameters,
                        const std::vector<std::string>& names) {
   std::string out;
@@ -96,15 +129,7 @@ std::string substitute(const std::string& text, const std::map<std::string, std:
     if (open == std::string::npos) return out + text.substr(at);
     const std::size_t close = text.find('}', open);
     if (close == std::string::npos) throw InputError("'${' without its closing '}' in \"" + text + "\"");
-    const std::string name = text.substr(open + 2, close - open - 2);
-    const auto it = parameters.find(name);
-    if (it == parameters.end()) {
-      std::string declared;
-      for (const auto& n : names) declared += (declared.empty() ? "" : ", ") + n;
-      throw InputError("unknown parameter '" + name + "'" + did_you_mean(name, names) +
-                       "; the parameters: section declares " + (declared.empty() ? "none" : declared));
-    }
-    out += text.substr(at, open - at) + it->second;
+    out += text.substr(at, open - at) + expand(text.substr(open + 2, close - open - 2), parameters, names);
     at = close + 1;
   }
 }

@@ -66,6 +66,29 @@ TEST(ScenarioDocument, OverridesParametersValuesListItemsAndNewKeys) {
   EXPECT_EQ(doc.parameters.at("scale"), "0.1");
 }
 
+TEST(ScenarioDocument, ExpressionsComputeWithUnitsFromParameters) {
+  const std::string text =
+      "parameters:\n  h: 101.6 mm\n  gap: 50.8 mm\n  n: 2\n  fraction: large\n"
+      "a:\n  z: ${h + gap}\n  w: ${ n * h }\n  name: ${fraction}_5s\n  v: ${pi * (h/2) * (h/2) * h}\n";
+  const ScenarioDocument doc =
+      parse_scenario_document(text, "s.yaml", std::vector<Override>{parse_override("parameters.gap=2 in")});
+  EXPECT_EQ(doc.root["a"]["z"].as<std::string>(), "0.1524 m");
+  EXPECT_EQ(doc.root["a"]["w"].as<std::string>(), "0.2032 m");
+  EXPECT_EQ(doc.root["a"]["name"].as<std::string>(), "large_5s");
+  EXPECT_EQ(doc.root["a"]["v"].as<std::string>().substr(doc.root["a"]["v"].as<std::string>().size() - 3), " m3");
+
+  const InputError word = error_of([] { parse_scenario_document("parameters:\n  f: large\na: ${f * 2}\n", "s.yaml"); });
+  EXPECT_NE(std::string(word.what()).find("parameter 'f' is 'large', not a number or a quantity"), std::string::npos);
+  EXPECT_EQ(word.line(), 3);
+  const InputError mixed =
+      error_of([] { parse_scenario_document("parameters:\n  h: 1 mm\na:\n  b: ${h + 1 s}\n", "s.yaml"); });
+  EXPECT_NE(std::string(mixed.what()).find("cannot add a length and a time"), std::string::npos);
+  EXPECT_EQ(mixed.key(), "a.b");
+  const InputError typo =
+      error_of([] { parse_scenario_document("parameters:\n  scale: 1\na: ${2 * scal}\n", "s.yaml"); });
+  EXPECT_NE(std::string(typo.what()).find("unknown parameter 'scal' (did you mean 'scale'?)"), std::string::npos);
+}
+
 TEST(ScenarioDocument, ParsesOverrides) {
   const Override o = parse_override("a.b=x=1 kg");
   EXPECT_EQ(o.path, "a.b");
