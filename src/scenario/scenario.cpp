@@ -228,15 +228,15 @@ std::pair<Vec3, Vec3> part_bounds(const Part& part) {
 std::vector<std::string> SensorSpec::values(const std::vector<std::string>& type_names) const {
   switch (kind) {
     case Kind::region: {
-      std::vector<std::string> v = {"mass",        "count", "bulk_density", "bulk_density_exact", "packing_fraction",
-                                    "coordination"};
+      std::vector<std::string> v = {"mass",         "count", "bulk_density", "bulk_density_exact", "packing_fraction",
+                                    "coordination", "volume"};
       for (const auto& t : type_names) v.push_back("fraction_" + t);
       return v;
     }
     case Kind::part: {
       std::vector<std::string> v = {"force"};
       if (area > 0.0) v.push_back("pressure");
-      v.insert(v.end(), {"force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z", "position_z"});
+      v.insert(v.end(), {"force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z", "position_z", "angle"});
       return v;
     }
     case Kind::heap:
@@ -262,6 +262,49 @@ const std::vector<std::string>& global_value_names() {
   return names;
 }
 
+units::Dimension value_dimension(const std::string& value_name) {
+  namespace dim = units::dim;
+  const std::string v = value_name.substr(value_name.rfind('.') + 1);
+  static const std::map<std::string, units::Dimension> by_name = {{"time", dim::time},
+                                                                  {"kinetic_energy", dim::energy},
+                                                                  {"kinetic_energy_per_particle", dim::energy},
+                                                                  {"potential_energy", dim::energy},
+                                                                  {"created_mass", dim::mass},
+                                                                  {"removed_mass", dim::mass},
+                                                                  {"lost_mass", dim::mass},
+                                                                  {"mass", dim::mass},
+                                                                  {"bulk_density", dim::density},
+                                                                  {"bulk_density_exact", dim::density},
+                                                                  {"volume", dim::volume},
+                                                                  {"force", dim::force},
+                                                                  {"force_x", dim::force},
+                                                                  {"force_y", dim::force},
+                                                                  {"force_z", dim::force},
+                                                                  {"pressure", dim::pressure},
+                                                                  {"torque_x", dim::energy},  // N m
+                                                                  {"torque_y", dim::energy},
+                                                                  {"torque_z", dim::energy},
+                                                                  {"position_z", dim::length},
+                                                                  {"height", dim::length},
+                                                                  {"rate", dim::mass_flow},
+                                                                  {"start", dim::time},
+                                                                  {"end", dim::time},
+                                                                  {"duration", dim::time}};
+  const auto it = by_name.find(v);
+  return it == by_name.end() ? dim::dimensionless : it->second;  // counts, fractions, angles in degrees
+}
+
+units::Quantity evaluate_result(const ResultSpec& result,
+                                const std::function<double(const std::string&, const std::string&)>& value) {
+  return units::evaluate(result.expression, [&](const std::string& name) {
+    const std::size_t dot = name.find('.');
+    if (dot == std::string::npos) {
+      throw InputError("'" + name + "' is not a stage's value (expected stage.value, e.g. fill.cup.bulk_density)");
+    }
+    return units::Quantity{value(name.substr(0, dot), name.substr(dot + 1)), value_dimension(name)};
+  });
+}
+
 std::vector<std::string> Scenario::value_names() const {
   std::vector<std::string> names = global_value_names();
   std::vector<std::string> type_names;
@@ -277,7 +320,7 @@ Scenario read_scenario(ScenarioDocument document) {
   const ScenarioNode root(document.root, "", document.file);
   const std::string dir = std::filesystem::path(document.file).parent_path().string();
   root.allow_only({"parameters", "simulation", "materials", "particle_types", "contacts", "parts", "factories", "sinks",
-                   "sensors", "stages", "outputs"});
+                   "sensors", "stages", "results", "outputs"});
 
   // --- simulation ---------------------------------------------------------------------------
   const ScenarioNode sim = root.at("simulation");
@@ -524,9 +567,15 @@ Scenario read_scenario(ScenarioDocument document) {
       spec.name = name;
       const std::string kind = s.at("kind").choice({"region", "part", "heap", "flow"});
       if (kind == "region") {
-        s.allow_only({"kind", "region"});
+        s.allow_only({"kind", "region", "volume", "top"});
         spec.region = read_region(s.at("region"));
         require_inside(s.at("region"), spec.region.lo(), spec.region.hi(), sc.domain, "the sensor's region");
+        spec.reference_volume = s.positive_or("volume", dim::volume, 0.0);
+        if (s.has("top")) {
+          if (spec.reference_volume > 0.0)
+            throw s.at("top").error("a region that follows a part has no fixed 'volume'");
+          spec.top_part = index_in(s.at("top"), part_names, "part");
+        }
       } else if (kind == "part") {
         s.allow_only({"kind", "part", "axis", "area"});
         spec.kind = SensorSpec::Kind::part;
@@ -587,7 +636,8 @@ Scenario read_scenario(ScenarioDocument document) {
       }
     }
     const ScenarioNode until = s.at("until");
-    until.allow_only({"time", "kinetic_energy", "factories_done", "servo_held", "stable", "min_time", "max_time"});
+    until.allow_only(
+        {"time", "kinetic_energy", "factories_done", "servo_held", "reached", "stable", "min_time", "max_time"});
     if (until.has("time")) stage.duration = until.positive("time", dim::time);
     if (until.has("kinetic_energy")) stage.kinetic_energy = until.positive("kinetic_energy", dim::energy);
     stage.factories_done = until.boolean_or("factories_done", false);
@@ -598,6 +648,13 @@ Scenario read_scenario(ScenarioDocument document) {
       bool servo = sc.parts[*stage.servo_part].motion.has_servo;
       for (const auto& [p, m] : stage.motions) servo = servo || (p == *stage.servo_part && m.has_servo);
       if (!servo) throw sh->at("part").error("this part has no servo (motion: - servo: ...)");
+    }
+    if (const auto r = until.find("reached")) {
+      r->allow_only({"value", "above", "below"});
+      stage.reached = values[index_in(r->at("value"), values, "value")];
+      const std::string side = r->one_of({"above", "below"});
+      stage.reached_above = side == "above";
+      stage.reached_threshold = r->at(side).quantity(value_dimension(*stage.reached));
     }
     if (const auto sb = until.find("stable")) {
       sb->allow_only({"value", "tolerance", "window"});
@@ -613,6 +670,36 @@ Scenario read_scenario(ScenarioDocument document) {
     sc.stages.push_back(std::move(stage));
   }
   if (sc.stages.empty()) throw root.at("stages").error("expected at least one stage");
+
+  // --- results --------------------------------------------------------------------------------
+  if (const auto rs = root.find("results")) {
+    for (const auto& [name, r] : rs->entries()) {
+      ResultSpec spec{name, r.text()};
+      // Checked now against every stage and value name, with stand-in values (distinct, so
+      // that a difference of two values is not zero).
+      double stand_in = 1.0;
+      try {
+        evaluate_result(spec, [&](const std::string& stage, const std::string& value) {
+          const bool known_stage =
+              std::any_of(sc.stages.begin(), sc.stages.end(), [&](const StageSpec& x) { return x.name == stage; });
+          if (!known_stage) {
+            std::vector<std::string> stages;
+            for (const auto& x : sc.stages) stages.push_back(x.name);
+            throw InputError("unknown stage '" + stage + "'" + did_you_mean(stage, stages));
+          }
+          const bool own = value == "start" || value == "end" || value == "duration";
+          if (!own && std::find(values.begin(), values.end(), value) == values.end()) {
+            throw InputError("unknown value '" + value + "'" + did_you_mean(value, values) +
+                             " (a stage has start, end, duration and every value of the run)");
+          }
+          return stand_in += 0.0137;
+        });
+      } catch (const InputError& e) {
+        throw r.error(e.problem());
+      }
+      sc.results.push_back(std::move(spec));
+    }
+  }
 
   // --- outputs --------------------------------------------------------------------------------
   if (const auto out = root.find("outputs")) {

@@ -106,14 +106,27 @@ struct RunState {
     return v;
   }
 
+  // A region sensor's region now: its top at its part's position, if it follows one.
+  Region region_now(const SensorSpec& s) const {
+    Region r = s.region;
+    if (!s.top_part) return r;
+    const double top = std::max(sim.part(*s.top_part).pose.position.z, r.lo().z);
+    if (r.kind == Region::Kind::cylinder) return Region::cylinder(r.position, r.radius, top - r.position.z);
+    const Vec3 lo = r.lo(), hi{r.hi().x, r.hi().y, top};
+    return Region::box(0.5 * (lo + hi), hi - lo);
+  }
+
   // Sensor i's values, in the order of SensorSpec::values; `flow` indexes its PlaneFlow.
   void append_sensor(std::size_t i, std::size_t flow, std::vector<double>& v) const {
     const SensorSpec& s = sc.sensors[i];
     switch (s.kind) {
       case SensorSpec::Kind::region: {
-        const RegionReading r = read_region(sim, s.region);
-        v.insert(v.end(), {r.mass, static_cast<double>(r.count), r.bulk_density, r.bulk_density_exact,
-                           r.packing_fraction, r.coordination});
+        const Region region = region_now(s);
+        const RegionReading r = read_region(sim, region);
+        // per the reference volume, where one is given (a heaped kettle over its own volume)
+        const double per = s.reference_volume > 0.0 ? region.volume() / s.reference_volume : 1.0;
+        v.insert(v.end(), {r.mass, static_cast<double>(r.count), r.bulk_density * per, r.bulk_density_exact * per,
+                           r.packing_fraction * per, r.coordination, region.volume()});
         v.insert(v.end(), r.mass_fraction.begin(), r.mass_fraction.end());
         break;
       }
@@ -122,7 +135,11 @@ struct RunState {
         const double along = dot(p.force, s.axis);
         v.push_back(along);
         if (s.area > 0.0) v.push_back(along / s.area);
-        v.insert(v.end(), {p.force.x, p.force.y, p.force.z, p.torque.x, p.torque.y, p.torque.z, p.pose.position.z});
+        // the angle turned from the part's starting orientation [deg]
+        const Quat &q = p.pose.orientation, &q0 = sc.parts[s.part].pose.orientation;
+        const double w = std::min(1.0, std::abs(q.w * q0.w + q.x * q0.x + q.y * q0.y + q.z * q0.z));
+        v.insert(v.end(), {p.force.x, p.force.y, p.force.z, p.torque.x, p.torque.y, p.torque.z, p.pose.position.z,
+                           2.0 * std::acos(w) * 180.0 / std::numbers::pi});
         break;
       }
       case SensorSpec::Kind::heap: {
@@ -423,6 +440,10 @@ class Runner {
         const ServoState& s = sim.part(*stage.servo_part).servo;
         if (s.held && s.held_since >= 0.0 && sim.time() - s.held_since >= stage.servo_hold) return "servo_held";
       }
+      if (stage.reached) {
+        const double v = st_.value(*stage.reached);
+        if (stage.reached_above ? v >= stage.reached_threshold : v <= stage.reached_threshold) return "reached";
+      }
       if (stage.stable) {
         SampleWindow& w = pos_.history;
         if (w.time.empty() || w.time.back() < sim.time()) {  // (once per time: a restart checks again)
@@ -529,7 +550,8 @@ class Runner {
         fmt::print(stderr, "{}stage {}/{} {} ended by {} at t = {:.4f} s ({} steps)\n", tty_ ? "\r" : "",
                    pos_.stage + 1, sc_.stages.size(), stage.name, end, sim.time(), sr.steps);
       }
-      if (end == "max_time" && (stage.kinetic_energy || stage.factories_done || stage.servo_part || stage.stable)) {
+      if (end == "max_time" &&
+          (stage.kinetic_energy || stage.factories_done || stage.servo_part || stage.reached || stage.stable)) {
         pos_.warnings.push_back(
             fmt::format("stage '{}' ended at its time limit before its condition was met", stage.name));
       }
@@ -571,6 +593,36 @@ class Runner {
     return report;
   }
 
+  // The scenario's results from the stages' end values: {"name": {"value": SI, "unit": ".."}};
+  // null for one whose stages have not run (an interrupted run) or that cannot be computed.
+  nlohmann::ordered_json results_json(const RunReport& report) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::object();
+    for (const ResultSpec& r : sc_.results) {
+      try {
+        const units::Quantity q = evaluate_result(r, [&](const std::string& stage, const std::string& value) {
+          const auto s = std::find_if(report.stages.begin(), report.stages.end(),
+                                      [&](const StageReport& x) { return x.name == stage; });
+          if (s == report.stages.end()) throw InputError("stage '" + stage + "' has not run");
+          if (value == "start") return s->start;
+          if (value == "end") return s->end;
+          if (value == "duration") return s->end - s->start;
+          const auto v =
+              std::find_if(s->values.begin(), s->values.end(), [&](const auto& x) { return x.first == value; });
+          return v->second;  // (names were checked by read_scenario)
+        });
+        j[r.name] = {{"value", q.value}, {"unit", units::si_symbol(q.dimension)}};
+        if (o_.progress && !report.interrupted) {
+          fmt::print(stderr, "  {} = {:.6g}{}{}\n", r.name, q.value,
+                     q.dimension == units::dim::dimensionless ? "" : " ", units::si_symbol(q.dimension));
+        }
+      } catch (const InputError& e) {
+        j[r.name] = nullptr;
+        if (!report.interrupted) warnings_.push_back("result '" + r.name + "': " + e.problem());
+      }
+    }
+    return j;
+  }
+
   void write_summary(const RunReport& report) {
     namespace fs = std::filesystem;
     nlohmann::ordered_json j;
@@ -598,6 +650,7 @@ class Runner {
                         {"heap_profiles", profiles_json(s.profiles)}});
     }
     j["stages"] = stages;
+    j["results"] = results_json(report);
     nlohmann::ordered_json factories = nlohmann::ordered_json::array();
     for (const auto& f : st_.factories) {
       nlohmann::ordered_json types = nlohmann::ordered_json::object();
@@ -633,7 +686,9 @@ class Runner {
     j["lost"] = sink_json(st_.lost);
     j["final"] = values_json(st_.named_values());
     j["final_state_hash"] = fmt::format("{:016x}", state_hash(st_.sim.particles()));
-    j["warnings"] = report.warnings;
+    nlohmann::ordered_json warnings = report.warnings;
+    for (const auto& w : warnings_) warnings.push_back(w);
+    j["warnings"] = warnings;
     io::write_file_atomically((fs::path(o_.out_dir) / "summary.json").string(), j.dump(2) + "\n");
   }
 
@@ -643,6 +698,7 @@ class Runner {
   Position pos_;
   std::optional<io::FrameWriter> frames_;
   std::vector<std::size_t> columns_;
+  std::vector<std::string> warnings_;  // of the results, in the summary only
   std::ofstream series_;
   Clock::time_point wall0_, last_line_, last_checkpoint_, stage_wall0_;
   double stage_time0_ = 0.0;

@@ -7,7 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sstream>
 
 #include "bushel/core/input_error.hpp"
@@ -258,6 +260,75 @@ TEST_F(ScenarioRun, StagesEndOnAStableValueAndOnAHeldServo) {
   EXPECT_EQ(r.stages[1].ended_by, "stable");
   EXPECT_GE(r.stages[1].end - r.stages[1].start, 0.03);
   EXPECT_EQ(r.stages[2].ended_by, "servo_held");
+}
+
+TEST_F(ScenarioRun, StagesEndWhenAValueIsReachedAndResultsAreComputed) {
+  // After the settling a lid comes down at constant speed until the grain pushes it up with
+  // 0.3 N; a region follows the lid (its volume is the sample's), another is weighed against
+  // a volume of its own, a flap turns by 90 degrees, and the results combine stage values.
+  std::string text = replaced(small, "parts:\n", R"(parts:
+  lid: {shape: disc, radius: 14 mm, position: 0 0 30 mm, material: steel, enabled: false}
+  flap:
+    shape: plate
+    length: 10 mm
+    width: 10 mm
+    position: 30 30 100 mm
+    material: steel
+    motion: [{rotate: {axis: 1 0 0, point: 30 30 100 mm, speed: 10 rad/s, angle: 90 deg}}]
+)");
+  text = replaced(text, "sensors:\n", R"(sensors:
+  sample: {kind: region, region: {shape: cylinder, radius: 15 mm, height: 40 mm}, top: lid}
+  heaped: {kind: region, region: {shape: cylinder, radius: 15 mm, height: 60 mm}, volume: 10 cm3}
+  push: {kind: part, part: lid, axis: 0 0 1}
+  turn: {kind: part, part: flap}
+)");
+  text = replaced(text, "outputs:\n", R"(  - name: press
+    enable: [lid]
+    motions:
+      lid: [{translate: 0 0 -50 mm/s}]
+    until: {reached: {value: push.force, above: 0.3 N}, max_time: 0.5 s}
+results:
+  stop_force: press.push.force
+  heaped_density: settle.heaped.mass / (10 cm3)
+  press_time: press.duration
+  sample_density: press.sample.mass / press.sample.volume
+outputs:
+)");
+  const Scenario sc = read(text, {parse_override("parameters.count=120")});
+  const RunReport r = run(sc);
+  ASSERT_EQ(r.stages.size(), 3u);
+  EXPECT_EQ(r.stages[2].ended_by, "reached");
+  std::map<std::string, double> settle, press;
+  for (const auto& [name, v] : r.stages[1].values) settle[name] = v;
+  for (const auto& [name, v] : r.stages[2].values) press[name] = v;
+  EXPECT_GE(press["push.force"], 0.3);
+  EXPECT_NEAR(press["sample.volume"], std::numbers::pi * 0.015 * 0.015 * press["push.position_z"], 1e-12);
+  EXPECT_LT(press["push.position_z"], 0.03);
+  EXPECT_NEAR(settle["heaped.bulk_density"], settle["heaped.mass"] / 10e-6, 1e-9);
+  EXPECT_NEAR(settle["turn.angle"], 90.0, 1e-6);
+  EXPECT_NEAR(settle["push.angle"], 0.0, 1e-9);
+
+  std::ifstream in(path("out/summary.json"));
+  const auto j = nlohmann::json::parse(in);
+  const auto& res = j["results"];
+  EXPECT_EQ(res["stop_force"]["value"].get<double>(), press["push.force"]);
+  EXPECT_EQ(res["stop_force"]["unit"], "N");
+  EXPECT_NEAR(res["heaped_density"]["value"].get<double>(), settle["heaped.bulk_density"], 1e-9);
+  EXPECT_EQ(res["heaped_density"]["unit"], "kg/m3");
+  EXPECT_NEAR(res["press_time"]["value"].get<double>(), r.stages[2].end - r.stages[2].start, 1e-15);
+  EXPECT_EQ(res["press_time"]["unit"], "s");
+  EXPECT_NEAR(res["sample_density"]["value"].get<double>(), press["sample.bulk_density"], 1e-9);
+
+  // bad results and conditions are caught before the run
+  EXPECT_NE(error_of(replaced(text, "press.push.force\n", "pres.push.force\n"))
+                .find("unknown stage 'pres' (did you mean 'press'?)"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(text, "settle.heaped.mass / (10 cm3)", "settle.heaped.mass + 1 s"))
+                .find("cannot add a mass and a time"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(text, "above: 0.3 N", "above: 0.3 kPa")).find("expected a force"), std::string::npos);
+  EXPECT_NE(error_of(replaced(text, "above: 0.3 N", "above: 0.3 N, below: 1 N")).find("above"), std::string::npos);
+  EXPECT_NE(error_of(replaced(text, "top: lid", "top: lod")).find("did you mean 'lid'"), std::string::npos);
 }
 
 TEST_F(ScenarioRun, AStageCanTakeAPartAway) {

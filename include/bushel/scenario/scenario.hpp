@@ -4,6 +4,7 @@
 // scenarios.md lists the sections and keys); an error names the file, line and key.
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <map>
 #include <optional>
@@ -16,6 +17,7 @@
 #include "bushel/insertion/factory.hpp"
 #include "bushel/integrate/simulation.hpp"
 #include "bushel/scenario/scenario_document.hpp"
+#include "bushel/units/expression.hpp"
 
 namespace bushel {
 
@@ -23,16 +25,18 @@ struct SensorSpec {
   enum class Kind { region, part, heap, flow };
   std::string name;
   Kind kind = Kind::region;
-  Region region;          ///< region sensors
-  std::size_t part = 0;   ///< part sensors: index of the part
-  Vec3 axis{0, 0, -1};    ///< part sensors: the force is measured along this unit vector
-  double area = 0.0;      ///< part sensors: pressure = force / area [m2]; 0 = no pressure
-  Vec3 centre;            ///< heap: a point on the vertical axis [m]
-  double outer = 0.0;     ///< heap: outer radius [m]
-  int rings = 20;         ///< heap: number of rings
-  Vec3 point;             ///< flow: a point of the plane [m]
-  Vec3 normal{0, 0, -1};  ///< flow: unit normal, the direction counted positive
-  double window = 0.05;   ///< flow: the rate's averaging time [s]
+  Region region;                        ///< region sensors
+  double reference_volume = 0.0;        ///< region: bulk density = mass / this [m3]; 0 = the region's volume
+  std::optional<std::size_t> top_part;  ///< region: its top follows this part's position (a lid)
+  std::size_t part = 0;                 ///< part sensors: index of the part
+  Vec3 axis{0, 0, -1};                  ///< part sensors: the force is measured along this unit vector
+  double area = 0.0;                    ///< part sensors: pressure = force / area [m2]; 0 = no pressure
+  Vec3 centre;                          ///< heap: a point on the vertical axis [m]
+  double outer = 0.0;                   ///< heap: outer radius [m]
+  int rings = 20;                       ///< heap: number of rings
+  Vec3 point;                           ///< flow: a point of the plane [m]
+  Vec3 normal{0, 0, -1};                ///< flow: unit normal, the direction counted positive
+  double window = 0.05;                 ///< flow: the rate's averaging time [s]
   /// The names of its values ("bulk_density", ...), without the sensor's name.
   std::vector<std::string> values(const std::vector<std::string>& type_names) const;
 };
@@ -57,6 +61,9 @@ struct StageSpec {
   bool factories_done = false;                                ///< ... when every factory enabled in it is done
   std::optional<std::size_t> servo_part;                      ///< ... when this part's servo has held its force
   double servo_hold = 0.0;                                    ///<     for this long [s]
+  std::optional<std::string> reached;                         ///< ... when this value ("sensor.value") has
+  double reached_threshold = 0.0;                             ///<     gone above (or below) this [SI]
+  bool reached_above = true;                                  ///<     (false: below)
   std::optional<std::string> stable;                          ///< ... when this value ("sensor.value") is stable:
   double stable_tolerance = 0.01;                             ///<     its relative change stays below this [-]
   double stable_window = 0.05;                                ///<     over this time [s]
@@ -68,6 +75,13 @@ struct OutputSpec {
   double series_interval = 0.01;    ///< timeseries.csv row interval [s]
   std::vector<std::string> series;  ///< its columns ("cup.bulk_density"); empty = all values
   double frame_interval = 0.0;      ///< ParaView frames interval [s]; 0 = none
+};
+
+/// A number the run computes from its stages' end values when it ends ("compressibility:
+/// (tapped.cup.bulk_density - loose.cup.bulk_density) / tapped.cup.bulk_density").
+struct ResultSpec {
+  std::string name;
+  std::string expression;  ///< units/expression.hpp; names are stage.value or stage.start|end|duration
 };
 
 struct Scenario {
@@ -84,6 +98,7 @@ struct Scenario {
   std::vector<SensorSpec> sensors;
   std::vector<StageSpec> stages;
   OutputSpec outputs;
+  std::vector<ResultSpec> results;
   double check_interval = 1e-3;  ///< factories, sinks and stage conditions act this often [s]
   int threads = 0;               ///< 0 = OpenMP's default
   /// Every value the run can report: globals, then each sensor's ("cup.bulk_density").
@@ -97,5 +112,14 @@ Scenario read_scenario(ScenarioDocument document);
 
 /// The global values every run reports.
 const std::vector<std::string>& global_value_names();
+
+/// The dimension of a value by its name ("cup.bulk_density" is a density); angles (heap and
+/// part) are reported in degrees and count as plain numbers.
+units::Dimension value_dimension(const std::string& value_name);
+
+/// Evaluates a result's expression; `value` gives a stage's value by its name
+/// ("fill.cup.mass", "fill.duration"), or throws InputError for an unknown one.
+units::Quantity evaluate_result(const ResultSpec& result,
+                                const std::function<double(const std::string& stage, const std::string& value)>& value);
 
 }  // namespace bushel
