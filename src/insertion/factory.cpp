@@ -21,7 +21,8 @@ Factory::Factory(FactorySpec spec, const Simulation& sim) : spec_(std::move(spec
   double sum = 0.0;
   for (std::size_t k = 0; k < spec_.types.size(); ++k) {
     if (spec_.types[k] >= types.size()) throw InputError("unknown particle type").with_key("types");
-    if (!(spec_.fractions[k] > 0.0)) throw InputError("expected a fraction > 0").with_key("types");
+    // (a share of 0 is allowed, so that a mixture can leave out a fraction by a parameter)
+    if (!(spec_.fractions[k] >= 0.0)) throw InputError("expected a fraction >= 0").with_key("types");
     sum += spec_.fractions[k];
     const ParticleType& t = types[spec_.types[k]];
     type_mass_.push_back(t.mass());

@@ -525,7 +525,7 @@ Scenario read_scenario(ScenarioDocument document) {
         for (const auto& [tname, frac] : types.entries()) {
           spec.types.push_back(static_cast<std::uint32_t>(index_named(frac, tname, type_names, "particle type")));
           const double v = frac.quantity(dim::dimensionless);
-          if (!(v > 0.0)) throw frac.error("expected a share > 0, e.g. 81.5%");
+          if (!(v >= 0.0)) throw frac.error("expected a share >= 0, e.g. 81.5%");
           spec.fractions.push_back(v);
           sum += v;
         }
@@ -602,9 +602,10 @@ Scenario read_scenario(ScenarioDocument document) {
 
   // --- stages ---------------------------------------------------------------------------------
   for (const ScenarioNode& s : root.at("stages").items()) {
-    s.allow_only({"name", "enable", "disable", "motions", "until"});
+    s.allow_only({"name", "enabled", "enable", "disable", "motions", "until"});
     StageSpec stage;
     stage.name = s.at("name").text();
+    stage.enabled = s.boolean_or("enabled", true);
     for (const auto& [key, on] : {std::pair<const char*, bool>{"enable", true}, {"disable", false}}) {
       if (const auto list = s.find(key)) {
         // factories, sinks and parts by name (one list of all, so a typo is matched against all)

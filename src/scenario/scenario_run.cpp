@@ -484,6 +484,10 @@ class Runner {
     bool interrupted = false;
     while (pos_.stage < sc_.stages.size() && !interrupted) {
       const StageSpec& stage = sc_.stages[pos_.stage];
+      if (!stage.enabled) {
+        ++pos_.stage;
+        continue;
+      }
       if (!pos_.stage_started) {
         pos_.t0 = sim.time();
         pos_.steps0 = sim.steps();
@@ -593,6 +597,13 @@ class Runner {
     return report;
   }
 
+  // Whether a result names a stage the scenario skips (its result is null, as intended).
+  bool uses_disabled_stage(const ResultSpec& r) const {
+    return std::any_of(sc_.stages.begin(), sc_.stages.end(), [&](const StageSpec& s) {
+      return !s.enabled && r.expression.find(s.name + ".") != std::string::npos;
+    });
+  }
+
   // The scenario's results from the stages' end values: {"name": {"value": SI, "unit": ".."}};
   // null for one whose stages have not run (an interrupted run) or that cannot be computed.
   nlohmann::ordered_json results_json(const RunReport& report) {
@@ -602,7 +613,7 @@ class Runner {
         const units::Quantity q = evaluate_result(r, [&](const std::string& stage, const std::string& value) {
           const auto s = std::find_if(report.stages.begin(), report.stages.end(),
                                       [&](const StageReport& x) { return x.name == stage; });
-          if (s == report.stages.end()) throw InputError("stage '" + stage + "' has not run");
+          if (s == report.stages.end()) throw InputError("stage '" + stage + "' has not run");  // (or is disabled)
           if (value == "start") return s->start;
           if (value == "end") return s->end;
           if (value == "duration") return s->end - s->start;
@@ -617,7 +628,7 @@ class Runner {
         }
       } catch (const InputError& e) {
         j[r.name] = nullptr;
-        if (!report.interrupted) warnings_.push_back("result '" + r.name + "': " + e.problem());
+        if (!report.interrupted && !uses_disabled_stage(r)) warnings_.push_back("result '" + r.name + "': " + e.problem());
       }
     }
     return j;

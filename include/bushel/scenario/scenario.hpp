@@ -51,6 +51,7 @@ struct SinkSpec {
 /// first condition met; the report says which).
 struct StageSpec {
   std::string name;
+  bool enabled = true;  ///< false: skipped (a scenario's optional step, "enabled: ${strike}")
   std::vector<std::pair<std::size_t, bool>> factories;  ///< factory index, enabled
   std::vector<std::pair<std::size_t, bool>> sinks;      ///< sink index, enabled
   std::vector<std::pair<std::size_t, bool>> parts;      ///< part index, enabled
