@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# The study's calibration cup at full size (scenarios/calibration-cup.yaml, 325 g), for the
+# three size fractions with the calibrated 5-sphere model and with the single-sphere model and
+# its per-pair parameters, next to the study's measurements and EDEM results (wheat.md).
+#
+#   validation/run-cup.sh [CASE...]     # cases: large-5s medium-5s small-5s large-1s medium-1s small-1s
+#
+# Hours on 2 cores. Each case runs in runs/validation/cup-CASE with a checkpoint every 5
+# minutes; run the script again after an interruption (Ctrl-C, a reboot) and it continues
+# each unfinished case from its checkpoint and skips finished ones. The table of every case
+# so far is written to validation/results/cup.md (and printed) after each case.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+bushel="${BUSHEL:-$root/build/release/bin/bushel}"
+runs="$root/runs/validation"
+mkdir -p "$runs" "$root/validation/results"
+
+# case -> parameter overrides (wheat.md: single-sphere fr_ww / fs_ww / e_ww per pair)
+declare -A sets=(
+  [large-5s]="fraction=large model=5s"
+  [medium-5s]="fraction=medium model=5s"
+  [small-5s]="fraction=small model=5s"
+  [large-1s]="fraction=large model=1s fr_ww=0.05 fs_ww=0.172 e_ww=0.5"
+  [medium-1s]="fraction=medium model=1s fr_ww=0.05 fs_ww=0.486 e_ww=0.1"
+  [small-1s]="fraction=small model=1s fr_ww=0.10 fs_ww=0.500 e_ww=0.1"
+)
+cases=("$@")
+[ ${#cases[@]} -gt 0 ] || cases=(large-5s medium-5s small-5s large-1s medium-1s small-1s)
+
+table() {
+  /usr/bin/python3 - "$runs" "${cases[@]}" <<'EOF'
+import json, os, sys
+runs, cases = sys.argv[1], sys.argv[2:]
+measured = {"large": 826.1, "medium": 798.1, "small": 778.5}   # wheat.md, 10 replicates, sd ~1.2
+edem = {"large": 828.7, "medium": 806.5, "small": 775.5}       # the study's EDEM, 5 spheres
+print("| case | bulk density [kg/m3] | struck | measured | EDEM (5s) | diff to measured | filling time [s] | heap angle [deg] | particles | simulated [s] | wall [h] | particle-steps/s | status |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+for case in cases:
+    fraction, model = case.split("-")
+    path = os.path.join(runs, "cup-" + case, "summary.json")
+    if not os.path.exists(path):
+        print(f"| {case} | | | {measured[fraction]} | {edem[fraction]} | | | | | | | | not started |")
+        continue
+    j = json.load(open(path))
+    r = lambda k: (j["results"].get(k) or {}).get("value")
+    f = lambda v, fmt: format(v, fmt) if v is not None else ""
+    bd = r("bulk_density")
+    diff = f"{100 * (bd - measured[fraction]) / measured[fraction]:+.1f} %" if bd else ""
+    status = "interrupted at t = %.2f s (stage %d)" % (j["simulated_time_s"], len(j["stages"]) + 1) if j["interrupted"] else "done"
+    print(f"| {case} | {f(bd, '.1f')} | {f(r('bulk_density_struck'), '.1f')} | {measured[fraction]} | "
+          f"{edem[fraction] if model == '5s' else ''} | {diff} | {f(r('filling_time'), '.2f')} | {f(r('heap_angle'), '.1f')} | "
+          f"{j['factories'][0]['count']} | {j['simulated_time_s']:.2f} | {j['wall_time_s'] / 3600:.2f} | "
+          f"{j['particle_steps_per_s']:.3g} | {status} |")
+EOF
+}
+
+for c in "${cases[@]}"; do
+  [ -n "${sets[$c]:-}" ] || { echo "unknown case '$c' (known: ${!sets[*]})" >&2; exit 2; }
+  dir="$runs/cup-$c"
+  rc=0
+  if [ -f "$dir/summary.json" ] && grep -q '"interrupted": false' "$dir/summary.json"; then
+    echo "$c: finished before"
+    continue
+  fi
+  if [ -f "$dir/checkpoint.bin" ]; then
+    echo "$c: continuing from its checkpoint"
+    "$bushel" run --restart "$dir" --checkpoint-every 5 || rc=$?
+  else
+    args=()
+    for s in ${sets[$c]}; do args+=(--set "parameters.$s"); done
+    echo "$c: starting"
+    "$bushel" run "$root/scenarios/calibration-cup.yaml" --out "$dir" --checkpoint-every 5 \
+      --set parameters.frame_interval=1s "${args[@]}" || rc=$?
+  fi
+  if [ "${rc:-0}" -ne 0 ]; then
+    echo "$c: stopped (exit ${rc}); run the script again to continue" >&2
+    table > "$root/validation/results/cup.md"
+    exit "$rc"
+  fi
+  table > "$root/validation/results/cup.md"
+done
+table | tee "$root/validation/results/cup.md"
