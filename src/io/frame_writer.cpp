@@ -41,6 +41,7 @@ void FrameWriter::write(const Simulation& sim) {
   TriangleMesh all;
   VtuArray part{"part", 1, {}};
   for (std::size_t i = 0; i < sim.parts(); ++i) {
+    if (!sim.part(i).enabled) continue;  // (a gate taken away, a lid not yet put on: not drawn)
     const TriangleMesh m = sim.part_surface(i);
     const auto base = static_cast<std::uint32_t>(all.vertices.size());
     all.vertices.insert(all.vertices.end(), m.vertices.begin(), m.vertices.end());

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -343,6 +344,13 @@ TEST_F(ScenarioRun, AStageCanTakeAPartAway) {
   double left = -1.0;
   for (const auto& [name, v] : r.stages[1].values) left = name == "particles" ? v : left;
   EXPECT_EQ(left, 0.0);
+  // the frames draw the cup while it is there, and not after
+  const std::string first = io::read_text_file(path("out/frames/geometry_00000.vtu"));
+  EXPECT_EQ(first.find("NumberOfCells=\"0\""), std::string::npos);
+  std::string last;
+  for (int k = 0; std::filesystem::exists(path(fmt::format("out/frames/geometry_{:05d}.vtu", k))); ++k)
+    last = path(fmt::format("out/frames/geometry_{:05d}.vtu", k));
+  EXPECT_NE(io::read_text_file(last).find("NumberOfCells=\"0\""), std::string::npos);
 }
 
 TEST_F(ScenarioRun, ContinuesBitForBitFromACheckpoint) {
