@@ -5,6 +5,7 @@
 #include <atomic>
 #include <csignal>
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -599,9 +600,16 @@ class Runner {
 
   // Whether a result names a stage the scenario skips (its result is null, as intended).
   bool uses_disabled_stage(const ResultSpec& r) const {
-    return std::any_of(sc_.stages.begin(), sc_.stages.end(), [&](const StageSpec& s) {
-      return !s.enabled && r.expression.find(s.name + ".") != std::string::npos;
-    });
+    const std::string& e = r.expression;
+    auto names = [&](const std::string& stage) {  // "stage." at the start of a name in e
+      for (auto at = e.find(stage + "."); at != std::string::npos; at = e.find(stage + ".", at + 1)) {
+        const char before = at > 0 ? e[at - 1] : ' ';
+        if (std::isalnum(static_cast<unsigned char>(before)) == 0 && before != '_' && before != '.') return true;
+      }
+      return false;
+    };
+    return std::any_of(sc_.stages.begin(), sc_.stages.end(),
+                       [&](const StageSpec& s) { return !s.enabled && names(s.name); });
   }
 
   // The scenario's results from the stages' end values: {"name": {"value": SI, "unit": ".."}};
@@ -628,7 +636,8 @@ class Runner {
         }
       } catch (const InputError& e) {
         j[r.name] = nullptr;
-        if (!report.interrupted && !uses_disabled_stage(r)) warnings_.push_back("result '" + r.name + "': " + e.problem());
+        if (!report.interrupted && !uses_disabled_stage(r))
+          warnings_.push_back("result '" + r.name + "': " + e.problem());
       }
     }
     return j;
