@@ -79,15 +79,12 @@ void add_run_command(CLI::App& app) {
       options.out_dir = o->out;
       r = run_scenario(load(*o), options);
     }
-    if (r.interrupted) {  // the checkpoint is written
-      const bool asked = r.simulated_time >= options.interrupt_at - 1e-5;  // (within half a step)
-      std::exit(asked ? 0 : 130);  // (130 as a shell reports Ctrl-C)
-    }
+    if (r.interrupted) std::exit(r.at_stop_time ? 0 : 130);  // checkpoint written; 130 as a shell reports Ctrl-C
     for (const auto& s : r.stages) {
       fmt::print("stage {:<12} ended by {:<15} t = {:.4f} s\n", s.name, s.ended_by, s.end);
     }
     // The headline: every bulk density the sensors measured at the end.
-    for (const auto& [name, value] : r.stages.empty() ? decltype(r.stages.back().values){} : r.stages.back().values) {
+    for (const auto& [name, value] : r.stages.back().values) {
       if (name.ends_with(".bulk_density")) fmt::print("{:<28} {:.1f} kg/m3\n", name, value);
     }
     fmt::print("{} steps, {:.3f} s simulated, {:.1f} s wall, {:.3g} particle-steps/s\n", r.steps, r.simulated_time,

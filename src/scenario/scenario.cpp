@@ -670,7 +670,8 @@ Scenario read_scenario(ScenarioDocument document) {
     }
     sc.stages.push_back(std::move(stage));
   }
-  if (sc.stages.empty()) throw root.at("stages").error("expected at least one stage");
+  if (std::none_of(sc.stages.begin(), sc.stages.end(), [](const StageSpec& x) { return x.enabled; }))
+    throw root.at("stages").error("expected at least one stage that is not skipped (enabled: false)");
 
   // --- results --------------------------------------------------------------------------------
   if (const auto rs = root.find("results")) {

@@ -5,7 +5,6 @@
 #include <atomic>
 #include <csignal>
 
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -482,7 +481,7 @@ class Runner {
     const double dt = sc_.settings.dt;
     wall0_ = last_line_ = last_checkpoint_ = Clock::now();
     tty_ = o_.progress && isatty(fileno(stderr)) != 0;
-    bool interrupted = false;
+    bool interrupted = false, at_stop_time = false;
     while (pos_.stage < sc_.stages.size() && !interrupted) {
       const StageSpec& stage = sc_.stages[pos_.stage];
       if (!stage.enabled) {
@@ -515,7 +514,8 @@ class Runner {
           pos_.next_frame += sc_.outputs.frame_interval;
         }
         // a checkpoint (periodic, or asked for by Ctrl-C) between checks, where nothing is half done
-        const bool stop = interrupt_requested.load() || sim.time() >= o_.interrupt_at - 0.5 * dt;
+        at_stop_time = sim.time() >= o_.interrupt_at - 0.5 * dt;
+        const bool stop = interrupt_requested.load() || at_stop_time;
         if (stop ||
             (o_.checkpoint_interval > 0.0 &&
              std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >= o_.checkpoint_interval)) {
@@ -566,6 +566,7 @@ class Runner {
     }
     RunReport report;
     report.interrupted = interrupted;
+    report.at_stop_time = interrupted && at_stop_time;
     if (interrupted) {
       if (o_.progress) {
         fmt::print(stderr,
@@ -598,30 +599,22 @@ class Runner {
     return report;
   }
 
-  // Whether a result names a stage the scenario skips (its result is null, as intended).
-  bool uses_disabled_stage(const ResultSpec& r) const {
-    const std::string& e = r.expression;
-    auto names = [&](const std::string& stage) {  // "stage." at the start of a name in e
-      for (auto at = e.find(stage + "."); at != std::string::npos; at = e.find(stage + ".", at + 1)) {
-        const char before = at > 0 ? e[at - 1] : ' ';
-        if (std::isalnum(static_cast<unsigned char>(before)) == 0 && before != '_' && before != '.') return true;
-      }
-      return false;
-    };
-    return std::any_of(sc_.stages.begin(), sc_.stages.end(),
-                       [&](const StageSpec& s) { return !s.enabled && names(s.name); });
-  }
-
   // The scenario's results from the stages' end values: {"name": {"value": SI, "unit": ".."}};
-  // null for one whose stages have not run (an interrupted run) or that cannot be computed.
-  nlohmann::ordered_json results_json(const RunReport& report) {
+  // null for one whose stages have not run (an interrupted run), are skipped, or that cannot
+  // be computed (a warning, unless a stage it names is skipped or the run was interrupted).
+  nlohmann::ordered_json results_json(const RunReport& report, nlohmann::ordered_json& warnings) {
     nlohmann::ordered_json j = nlohmann::ordered_json::object();
     for (const ResultSpec& r : sc_.results) {
+      bool skipped = false;  // it names a stage with enabled: false
       try {
         const units::Quantity q = evaluate_result(r, [&](const std::string& stage, const std::string& value) {
           const auto s = std::find_if(report.stages.begin(), report.stages.end(),
                                       [&](const StageReport& x) { return x.name == stage; });
-          if (s == report.stages.end()) throw InputError("stage '" + stage + "' has not run");  // (or is disabled)
+          if (s == report.stages.end()) {
+            skipped = std::any_of(sc_.stages.begin(), sc_.stages.end(),
+                                  [&](const StageSpec& x) { return x.name == stage && !x.enabled; });
+            throw InputError("stage '" + stage + "' has not run");
+          }
           if (value == "start") return s->start;
           if (value == "end") return s->end;
           if (value == "duration") return s->end - s->start;
@@ -636,8 +629,7 @@ class Runner {
         }
       } catch (const InputError& e) {
         j[r.name] = nullptr;
-        if (!report.interrupted && !uses_disabled_stage(r))
-          warnings_.push_back("result '" + r.name + "': " + e.problem());
+        if (!report.interrupted && !skipped) warnings.push_back("result '" + r.name + "': " + e.problem());
       }
     }
     return j;
@@ -670,7 +662,8 @@ class Runner {
                         {"heap_profiles", profiles_json(s.profiles)}});
     }
     j["stages"] = stages;
-    j["results"] = results_json(report);
+    nlohmann::ordered_json warnings = report.warnings;
+    j["results"] = results_json(report, warnings);
     nlohmann::ordered_json factories = nlohmann::ordered_json::array();
     for (const auto& f : st_.factories) {
       nlohmann::ordered_json types = nlohmann::ordered_json::object();
@@ -706,8 +699,6 @@ class Runner {
     j["lost"] = sink_json(st_.lost);
     j["final"] = values_json(st_.named_values());
     j["final_state_hash"] = fmt::format("{:016x}", state_hash(st_.sim.particles()));
-    nlohmann::ordered_json warnings = report.warnings;
-    for (const auto& w : warnings_) warnings.push_back(w);
     j["warnings"] = warnings;
     io::write_file_atomically((fs::path(o_.out_dir) / "summary.json").string(), j.dump(2) + "\n");
   }
@@ -718,7 +709,6 @@ class Runner {
   Position pos_;
   std::optional<io::FrameWriter> frames_;
   std::vector<std::size_t> columns_;
-  std::vector<std::string> warnings_;  // of the results, in the summary only
   std::ofstream series_;
   Clock::time_point wall0_, last_line_, last_checkpoint_, stage_wall0_;
   double stage_time0_ = 0.0;

@@ -288,7 +288,11 @@ TEST_F(ScenarioRun, StagesEndWhenAValueIsReachedAndResultsAreComputed) {
     motions:
       lid: [{translate: 0 0 -50 mm/s}]
     until: {reached: {value: push.force, above: 0.3 N}, max_time: 0.5 s}
+  - name: extra
+    enabled: false
+    until: {time: 1 s}
 results:
+  skipped: extra.duration
   stop_force: press.push.force
   heaped_density: settle.heaped.mass / (10 cm3)
   press_time: press.duration
@@ -319,6 +323,20 @@ outputs:
   EXPECT_NEAR(res["press_time"]["value"].get<double>(), r.stages[2].end - r.stages[2].start, 1e-15);
   EXPECT_EQ(res["press_time"]["unit"], "s");
   EXPECT_NEAR(res["sample_density"]["value"].get<double>(), press["sample.bulk_density"], 1e-9);
+  // a skipped stage does not run: its result is null, without a warning
+  EXPECT_TRUE(res["skipped"].is_null());
+  for (const auto& w : j["warnings"]) EXPECT_EQ(w.get<std::string>().find("skipped"), std::string::npos) << w;
+  // a result that cannot be computed is null, with a warning
+  const Scenario zero = read(replaced(text, "  stop_force: press.push.force\n",
+                                      "  stop_force: press.push.force\n  per_lost: 1 / settle.lost_mass\n"),
+                             {parse_override("parameters.count=120")});
+  run(zero);
+  std::ifstream in2(path("out/summary.json"));
+  const auto j2 = nlohmann::json::parse(in2);
+  EXPECT_TRUE(j2["results"]["per_lost"].is_null());
+  bool warned = false;
+  for (const auto& w : j2["warnings"]) warned = warned || w.get<std::string>().find("per_lost") != std::string::npos;
+  EXPECT_TRUE(warned) << j2["warnings"];
 
   // bad results and conditions are caught before the run
   EXPECT_NE(error_of(replaced(text, "press.push.force\n", "pres.push.force\n"))
@@ -330,6 +348,10 @@ outputs:
   EXPECT_NE(error_of(replaced(text, "above: 0.3 N", "above: 0.3 kPa")).find("expected a force"), std::string::npos);
   EXPECT_NE(error_of(replaced(text, "above: 0.3 N", "above: 0.3 N, below: 1 N")).find("above"), std::string::npos);
   EXPECT_NE(error_of(replaced(text, "top: lid", "top: lod")).find("did you mean 'lid'"), std::string::npos);
+  std::string none = replaced(text, "  - name: fill\n", "  - name: fill\n    enabled: false\n");
+  none = replaced(replaced(none, "  - name: settle\n", "  - name: settle\n    enabled: false\n"), "  - name: press\n",
+                  "  - name: press\n    enabled: false\n");
+  EXPECT_NE(error_of(none).find("at least one stage that is not skipped"), std::string::npos);
 }
 
 TEST_F(ScenarioRun, AStageCanTakeAPartAway) {

@@ -46,7 +46,8 @@ struct StageReport {
 };
 
 struct RunReport {
-  bool interrupted = false;  ///< stopped by Ctrl-C (or interrupt_at): checkpoint.bin holds the rest
+  bool interrupted = false;   ///< stopped by Ctrl-C (or interrupt_at): checkpoint.bin holds the rest
+  bool at_stop_time = false;  ///< stopped because it reached RunOptions::interrupt_at, as asked
   std::vector<StageReport> stages;
   std::uint64_t steps = 0;
   double simulated_time = 0.0;  ///< [s]
