@@ -289,10 +289,27 @@ units::Dimension value_dimension(const std::string& value_name) {
                                                                   {"rate", dim::mass_flow},
                                                                   {"start", dim::time},
                                                                   {"end", dim::time},
-                                                                  {"duration", dim::time}};
+                                                                  {"duration", dim::time},
+                                                                  {"angle", dim::angle}};
   const auto it = by_name.find(v);
-  return it == by_name.end() ? dim::dimensionless : it->second;  // counts, fractions, angles in degrees
+  return it == by_name.end() ? dim::dimensionless : it->second;  // counts, fractions, ratios
 }
+
+namespace {
+constexpr double degree = std::numbers::pi / 180.0;
+}
+
+double value_to_si(const std::string& value_name, double value) {
+  return value_dimension(value_name) == units::dim::angle ? value * degree : value;
+}
+
+double value_from_si(const std::string& value_name, double value_si) {
+  return value_dimension(value_name) == units::dim::angle ? value_si / degree : value_si;
+}
+
+std::string_view result_unit(units::Dimension d) { return d == units::dim::angle ? "deg" : units::si_symbol(d); }
+
+double result_value(const units::Quantity& q) { return q.dimension == units::dim::angle ? q.value / degree : q.value; }
 
 units::Quantity evaluate_result(const ResultSpec& result,
                                 const std::function<double(const std::string&, const std::string&)>& value) {
@@ -301,7 +318,7 @@ units::Quantity evaluate_result(const ResultSpec& result,
     if (dot == std::string::npos) {
       throw InputError("'" + name + "' is not a stage's value (expected stage.value, e.g. fill.cup.bulk_density)");
     }
-    return units::Quantity{value(name.substr(0, dot), name.substr(dot + 1)), value_dimension(name)};
+    return units::Quantity{value_to_si(name, value(name.substr(0, dot), name.substr(dot + 1))), value_dimension(name)};
   });
 }
 
@@ -655,7 +672,8 @@ Scenario read_scenario(ScenarioDocument document) {
       stage.reached = values[index_in(r->at("value"), values, "value")];
       const std::string side = r->one_of({"above", "below"});
       stage.reached_above = side == "above";
-      stage.reached_threshold = r->at(side).quantity(value_dimension(*stage.reached));
+      stage.reached_threshold =
+          value_from_si(*stage.reached, r->at(side).quantity(value_dimension(*stage.reached)));
     }
     if (const auto sb = until.find("stable")) {
       sb->allow_only({"value", "tolerance", "window"});

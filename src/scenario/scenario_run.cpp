@@ -622,10 +622,10 @@ class Runner {
               std::find_if(s->values.begin(), s->values.end(), [&](const auto& x) { return x.first == value; });
           return v->second;  // (names were checked by read_scenario)
         });
-        j[r.name] = {{"value", q.value}, {"unit", units::si_symbol(q.dimension)}};
+        j[r.name] = {{"value", result_value(q)}, {"unit", result_unit(q.dimension)}};
         if (o_.progress && !report.interrupted) {
-          fmt::print(stderr, "  {} = {:.6g}{}{}\n", r.name, q.value,
-                     q.dimension == units::dim::dimensionless ? "" : " ", units::si_symbol(q.dimension));
+          fmt::print(stderr, "  {} = {:.6g}{}{}\n", r.name, result_value(q),
+                     q.dimension == units::dim::dimensionless ? "" : " ", result_unit(q.dimension));
         }
       } catch (const InputError& e) {
         j[r.name] = nullptr;

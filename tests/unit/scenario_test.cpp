@@ -104,6 +104,18 @@ TEST(Scenario, ReadsEverySectionInSI) {
   EXPECT_NEAR(big.settings.dt, 1e-6, 1e-18);
 }
 
+TEST(Scenario, AnglesAreDegreesInTheRunAndRadiansInExpressions) {
+  EXPECT_EQ(value_dimension("gate.angle"), units::dim::angle);
+  EXPECT_EQ(value_dimension("heap.angle"), units::dim::angle);
+  EXPECT_EQ(value_dimension("cup.packing_fraction"), units::dim::dimensionless);
+  EXPECT_NEAR(value_to_si("gate.angle", 180.0), std::numbers::pi, 1e-15);
+  EXPECT_NEAR(value_from_si("gate.angle", std::numbers::pi / 4), 45.0, 1e-12);
+  EXPECT_EQ(value_to_si("cup.mass", 0.25), 0.25);
+  EXPECT_EQ(result_unit(units::dim::angle), "deg");
+  EXPECT_EQ(result_unit(units::dim::density), "kg/m3");
+  EXPECT_NEAR(result_value({std::numbers::pi / 2, units::dim::angle}), 90.0, 1e-12);
+}
+
 TEST(Scenario, ErrorsNameTheFileLineAndKey) {
   EXPECT_NE(error_of(replaced(small, "shear_modulus: 22.4 MPa", "shear_modulus: 22.4 mm"))
                 .find("s.yaml:7: key 'materials.wheat.shear_modulus': expected a pressure"),
@@ -297,6 +309,8 @@ results:
   heaped_density: settle.heaped.mass / (10 cm3)
   press_time: press.duration
   sample_density: press.sample.mass / press.sample.volume
+  flap_angle: settle.turn.angle
+  flap_sine: sin(settle.turn.angle)
 outputs:
 )");
   const Scenario sc = read(text, {parse_override("parameters.count=120")});
@@ -323,6 +337,11 @@ outputs:
   EXPECT_NEAR(res["press_time"]["value"].get<double>(), r.stages[2].end - r.stages[2].start, 1e-15);
   EXPECT_EQ(res["press_time"]["unit"], "s");
   EXPECT_NEAR(res["sample_density"]["value"].get<double>(), press["sample.bulk_density"], 1e-9);
+  // angles are read in degrees, computed with in radians and written in degrees
+  EXPECT_NEAR(res["flap_angle"]["value"].get<double>(), 90.0, 1e-6);
+  EXPECT_EQ(res["flap_angle"]["unit"], "deg");
+  EXPECT_NEAR(res["flap_sine"]["value"].get<double>(), 1.0, 1e-9);
+  EXPECT_EQ(res["flap_sine"]["unit"], "");
   // a skipped stage does not run: its result is null, without a warning
   EXPECT_TRUE(res["skipped"].is_null());
   for (const auto& w : j["warnings"]) EXPECT_EQ(w.get<std::string>().find("skipped"), std::string::npos) << w;

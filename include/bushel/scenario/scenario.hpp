@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -63,7 +64,7 @@ struct StageSpec {
   std::optional<std::size_t> servo_part;                      ///< ... when this part's servo has held its force
   double servo_hold = 0.0;                                    ///<     for this long [s]
   std::optional<std::string> reached;                         ///< ... when this value ("sensor.value") has
-  double reached_threshold = 0.0;                             ///<     gone above (or below) this [SI]
+  double reached_threshold = 0.0;                             ///<     gone above (or below) this [SI; deg for angles]
   bool reached_above = true;                                  ///<     (false: below)
   std::optional<std::string> stable;                          ///< ... when this value ("sensor.value") is stable:
   double stable_tolerance = 0.01;                             ///<     its relative change stays below this [-]
@@ -114,9 +115,18 @@ Scenario read_scenario(ScenarioDocument document);
 /// The global values every run reports.
 const std::vector<std::string>& global_value_names();
 
-/// The dimension of a value by its name ("cup.bulk_density" is a density); angles (heap and
-/// part) are reported in degrees and count as plain numbers.
+/// The dimension of a value by its name ("cup.bulk_density" is a density, "gate.angle" an
+/// angle).
 units::Dimension value_dimension(const std::string& value_name);
+
+/// A run's values are SI except angles (heap and part), which are in degrees as timeseries.csv
+/// shows them: these convert a value between the run's unit and SI (radians).
+double value_to_si(const std::string& value_name, double value);
+double value_from_si(const std::string& value_name, double value_si);
+
+/// The unit a result is written in: angles in degrees, everything else in SI.
+std::string_view result_unit(units::Dimension d);
+double result_value(const units::Quantity& q);
 
 /// Evaluates a result's expression; `value` gives a stage's value by its name
 /// ("fill.cup.mass", "fill.duration"), or throws InputError for an unknown one.
