@@ -119,7 +119,7 @@ def main():
               result(low, "bulk_density") < result(low, "bulk_density_unstruck") and abs(fractions - 1) < 1e-9)
     if a.only in (None, "compression"):
         comp = run(a.bushel, "compression", a.out)
-        curve = [result(comp, "bulk_density_0kPa")] + [result(comp, f"bulk_density_{k}") for k in range(1, 8)]
+        curve = [result(comp, "bulk_density_0")] + [result(comp, f"bulk_density_{k}") for k in range(1, 8)]
         check("compression", "the bulk density rises with every pressure level (0, 7 ... 138 kPa)",
               " < ".join(f"{x:.1f}" for x in curve), all(b > a_ for a_, b in zip(curve, curve[1:])))
     if a.only in (None, "tapped"):
