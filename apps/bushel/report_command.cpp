@@ -28,7 +28,8 @@ struct ReportCommandOptions {
 
 // Draws each figure of report_figures_json: "lines" (x, y per series), "categories" (a point
 // per case and series; the first series filled, the references hollow) and "stacked" (bars of
-// shares), the legend beside the axes. Each PNG is written under a temporary name and renamed, so none is ever half written.
+// shares), the legend beside the axes. Each PNG is written under a temporary name and renamed, so none is ever half
+// written.
 constexpr const char* plot_script = R"py(
 import json, os, sys
 import matplotlib
@@ -133,8 +134,9 @@ void run_report(const ReportCommandOptions& o) {
 
 void add_report_command(CLI::App& app) {
   auto o = std::make_shared<ReportCommandOptions>();
-  auto* cmd = app.add_subcommand("report", "Tables and plots of run folders: results beside measurements, curves, "
-                                           "heap profiles, composition (Markdown + HTML + PNG + CSV)");
+  auto* cmd = app.add_subcommand("report",
+                                 "Tables and plots of run folders: results beside measurements, curves, "
+                                 "heap profiles, composition (Markdown + HTML + PNG + CSV)");
   cmd->add_option("dirs", o->dirs, "Run folders (with summary.json), or folders holding them")->required();
   cmd->add_option("--out", o->out, "Folder for report.md, report.html, the PNG figures and CSV tables")
       ->capture_default_str();

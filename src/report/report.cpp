@@ -10,6 +10,7 @@
 #include <set>
 
 #include "bushel/core/input_error.hpp"
+#include "bushel/scenario/scenario.hpp"
 
 namespace bushel {
 
@@ -107,8 +108,8 @@ std::vector<Case> label_cases(const std::vector<RunSummary>& runs) {
 struct Group {
   std::string scenario;  // name
   std::vector<Case> cases;
-  std::vector<std::string> varied;  // parameters that differ between the runs
-  std::vector<std::string> results; // every result name, in order of first appearance
+  std::vector<std::string> varied;   // parameters that differ between the runs
+  std::vector<std::string> results;  // every result name, in order of first appearance
 
   std::vector<const RunSummary*> runs() const {
     std::vector<const RunSummary*> out;
@@ -120,7 +121,8 @@ struct Group {
 std::vector<Group> group_by_scenario(const std::vector<Case>& cases) {
   std::vector<Group> groups;
   for (const Case& c : cases) {
-    auto g = std::find_if(groups.begin(), groups.end(), [&](const Group& x) { return x.scenario == c.run->scenario_name(); });
+    auto g = std::find_if(groups.begin(), groups.end(),
+                          [&](const Group& x) { return x.scenario == c.run->scenario_name(); });
     if (g == groups.end()) g = groups.insert(groups.end(), Group{c.run->scenario_name(), {}, {}, {}});
     g->cases.push_back(c);
   }
@@ -136,7 +138,8 @@ std::vector<Group> group_by_scenario(const std::vector<Case>& cases) {
     }
     for (const std::string& name : names) {
       const auto first = g.cases.front().run->parameter(name);
-      const bool differs = std::any_of(g.cases.begin(), g.cases.end(), [&](const Case& c) { return c.run->parameter(name) != first; });
+      const bool differs =
+          std::any_of(g.cases.begin(), g.cases.end(), [&](const Case& c) { return c.run->parameter(name) != first; });
       if (differs) g.varied.push_back(name);
     }
   }
@@ -157,7 +160,8 @@ ReportBlock figure_block(std::string caption, ReportFigure figure) {
 
 std::string varied_text(const Group& g, const RunSummary& run) {
   std::string out;
-  for (const std::string& p : g.varied) out += (out.empty() ? "" : ", ") + p + " = " + run.parameter(p).value_or("(none)");
+  for (const std::string& p : g.varied)
+    out += (out.empty() ? "" : ", ") + p + " = " + run.parameter(p).value_or("(none)");
   return out;
 }
 
@@ -180,7 +184,8 @@ ReportSection runs_section(const std::vector<Group>& groups) {
                         fmt::format("{:.2f}", r.wall_time / 3600.0), fmt::format("{:.3g}", r.particle_steps_per_s),
                         std::to_string(r.warnings.size())});
       constexpr std::size_t shown = 5;
-      for (std::size_t i = 0; i < std::min(shown, r.warnings.size()); ++i) warnings.push_back(c.label + ": " + r.warnings[i]);
+      for (std::size_t i = 0; i < std::min(shown, r.warnings.size()); ++i)
+        warnings.push_back(c.label + ": " + r.warnings[i]);
       if (r.warnings.size() > shown) {
         warnings.push_back(fmt::format("{}: and {} more (its summary.json)", c.label, r.warnings.size() - shown));
       }
@@ -249,8 +254,13 @@ void add_curve(ReportSection& s, const Group& g, const Curve& c) {
     other_display.push_back(display_of(unit_of(runs, o + "_" + c.suffixes.front())));
     t.header.push_back(labelled(o, other_display.back().unit));
   }
-  ReportFigure f{file_stem(g.scenario + "-" + c.y + "-" + c.x) + ".png", "lines", g.scenario,
-                 labelled(c.x, dx.unit), labelled(c.y, dy.unit), {}, {}};
+  ReportFigure f{file_stem(g.scenario + "-" + c.y + "-" + c.x) + ".png",
+                 "lines",
+                 g.scenario,
+                 labelled(c.x, dx.unit),
+                 labelled(c.y, dy.unit),
+                 {},
+                 {}};
   for (const Case& cs : g.cases) {
     struct Point {
       double x, y;
@@ -277,7 +287,8 @@ void add_curve(ReportSection& s, const Group& g, const Curve& c) {
   }
   s.blocks.push_back(heading_block(fmt::format("{} against {}", c.y, c.x)));
   s.blocks.push_back(figure_block(fmt::format("{} against {}, one line per case", c.y, c.x), std::move(f)));
-  s.blocks.push_back(table_block(fmt::format("Results {0}_K and {1}_K{2}", c.x, c.y, c.others.empty() ? "" : " with the other results of each level"),
+  s.blocks.push_back(table_block(fmt::format("Results {0}_K and {1}_K{2}", c.x, c.y,
+                                             c.others.empty() ? "" : " with the other results of each level"),
                                  std::move(t)));
 }
 
@@ -290,9 +301,12 @@ void add_references(ReportSection& s, Report& report, const Group& g, const std:
   for (const std::string& name : g.results) {
     for (const Case& c : g.cases) {
       if (!c.run->result(name)) continue;
-      const std::string unit = unit_of(g.runs(), name);
+      const bool known = std::any_of(g.cases.begin(), g.cases.end(),
+                                     [&](const Case& x) { return std::isfinite(value_of(*x.run, name)); });
       for (const ReferenceValue& ref : references) {
         if (ref.result != name || !reference_applies(ref, *c.run)) continue;
+        // No run has a value (all interrupted, say), so none says its unit: the reference's
+        const std::string unit = known ? unit_of(g.runs(), name) : std::string(result_unit(ref.dimension));
         const double reference = reference_in_unit_of(ref, RunResult{name, std::nullopt, unit});
         const double sim = value_of(*c.run, name);
         report.comparisons.push_back({c.label, name, unit, sim, reference, ref.source, (sim - reference) / reference});
@@ -317,9 +331,12 @@ void add_references(ReportSection& s, Report& report, const Group& g, const std:
   }
   s.blocks.push_back(heading_block("Against measurements"));
   for (const std::string& name : results) {
-    const Display d = display_of(unit_of(g.runs(), name));
-    ReportFigure f{file_stem(g.scenario + "-" + name) + ".png", "categories", g.scenario, "case", labelled(name, d.unit),
-                   {}, {}};
+    const auto first_of =
+        std::find_if(report.comparisons.begin() + static_cast<std::ptrdiff_t>(first), report.comparisons.end(),
+                     [&](const ReportComparison& c) { return c.result == name; });
+    const Display d = display_of(first_of->unit);
+    ReportFigure f{
+        file_stem(g.scenario + "-" + name) + ".png", "categories", g.scenario, "case", labelled(name, d.unit), {}, {}};
     f.series.push_back({"bushel", {}, {}});
     for (const std::string& src : sources[name]) f.series.push_back({src, {}, {}});
     for (const Case& c : g.cases) {
@@ -344,7 +361,8 @@ void add_references(ReportSection& s, Report& report, const Group& g, const std:
 // --- heap profiles -------------------------------------------------------------------------------
 
 void add_heap_profiles(ReportSection& s, std::vector<ReportCsv>& csv, const Group& g, const ReportOptions& o) {
-  ReportFigure f{file_stem(g.scenario) + "-heap.png", "lines", g.scenario, "radius [mm]", "surface height [mm]", {}, {}};
+  ReportFigure f{
+      file_stem(g.scenario) + "-heap.png", "lines", g.scenario, "radius [mm]", "surface height [mm]", {}, {}};
   std::string text = "case,sensor,stage,radius_m,height_m\n";
   std::vector<std::string> used;  // "case: stage" where a run had no stage of the chosen name
   for (const Case& c : g.cases) {
@@ -413,9 +431,10 @@ void add_composition(ReportSection& s, const Group& g, const ReportOptions& o) {
     }
   }
   s.blocks.push_back(heading_block("Composition"));
-  s.blocks.push_back(figure_block("Mass shares of the particle types: made by the factories, and in the sample (results " +
-                                      o.composition_prefix + "TYPE)",
-                                  std::move(f)));
+  s.blocks.push_back(
+      figure_block("Mass shares of the particle types: made by the factories, and in the sample (results " +
+                       o.composition_prefix + "TYPE)",
+                   std::move(f)));
   s.blocks.push_back(table_block("", std::move(t)));
 }
 
@@ -460,7 +479,8 @@ ReportSection scenario_section(const Group& g, const std::vector<ReferenceValue>
     for (const Case& c : g.cases) {
       std::vector<std::string> row{c.label};
       for (const std::string& p : g.varied) row.push_back(c.run->parameter(p).value_or(""));
-      for (std::size_t i = 0; i < plain.size(); ++i) row.push_back(number_text(value_of(*c.run, plain[i]) * displays[i].factor));
+      for (std::size_t i = 0; i < plain.size(); ++i)
+        row.push_back(number_text(value_of(*c.run, plain[i]) * displays[i].factor));
       t.rows.push_back(std::move(row));
     }
     s.blocks.push_back(table_block("Results (n/a: not computed, e.g. an interrupted run)", std::move(t)));

@@ -23,10 +23,12 @@ std::vector<bool> numeric_columns(const ReportTable& t) {
   for (const auto& row : t.rows) {
     for (std::size_t i = 0; i < row.size() && i < numeric.size(); ++i) {
       const std::string& c = row[i];
-      const bool number = c == "n/a" || (!c.empty() && (std::isdigit(static_cast<unsigned char>(c[0])) ||
-                                                        ((c[0] == '-' || c[0] == '+') && c.size() > 1 &&
-                                                         std::isdigit(static_cast<unsigned char>(c[1])))) &&
-                                         c.find_first_not_of("0123456789.eE+- %") == std::string::npos);
+      const bool number =
+          c == "n/a" ||
+          (!c.empty() &&
+           (std::isdigit(static_cast<unsigned char>(c[0])) ||
+            ((c[0] == '-' || c[0] == '+') && c.size() > 1 && std::isdigit(static_cast<unsigned char>(c[1])))) &&
+           c.find_first_not_of("0123456789.eE+- %") == std::string::npos);
       numeric[i] = numeric[i] && number;
     }
   }
@@ -51,11 +53,20 @@ std::string html_escape(const std::string& s) {
   std::string out;
   for (const char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -105,8 +116,12 @@ std::string report_markdown(const Report& report) {
     out += fmt::format("\n## {}\n", s.title);
     for (const ReportBlock& b : s.blocks) {
       switch (b.kind) {
-        case ReportBlock::Kind::heading: out += fmt::format("\n### {}\n", b.text); break;
-        case ReportBlock::Kind::text: out += fmt::format("\n{}\n", b.text); break;
+        case ReportBlock::Kind::heading:
+          out += fmt::format("\n### {}\n", b.text);
+          break;
+        case ReportBlock::Kind::text:
+          out += fmt::format("\n{}\n", b.text);
+          break;
         case ReportBlock::Kind::list:
           out += fmt::format("\n{}:\n\n", b.text);
           for (const std::string& item : b.items) out += fmt::format("- {}\n", item);
@@ -138,8 +153,12 @@ std::string report_html(const Report& report) {
     out += "<h2>" + html_escape(s.title) + "</h2>\n";
     for (const ReportBlock& b : s.blocks) {
       switch (b.kind) {
-        case ReportBlock::Kind::heading: out += "<h3>" + html_escape(b.text) + "</h3>\n"; break;
-        case ReportBlock::Kind::text: out += "<p>" + html_text(b.text) + "</p>\n"; break;
+        case ReportBlock::Kind::heading:
+          out += "<h3>" + html_escape(b.text) + "</h3>\n";
+          break;
+        case ReportBlock::Kind::text:
+          out += "<p>" + html_text(b.text) + "</p>\n";
+          break;
         case ReportBlock::Kind::list:
           out += "<p>" + html_text(b.text) + ":</p>\n<ul>\n";
           for (const std::string& item : b.items) out += "<li>" + html_text(item) + "</li>\n";

@@ -30,7 +30,9 @@ double number(const Json& j, const std::string& key) {
 }
 
 // A number that the run writes as null when it is not finite (NaN: an empty sensor).
-double number_or_nan(const Json& v) { return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN(); }
+double number_or_nan(const Json& v) {
+  return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
+}
 
 StageReport read_stage(const Json& s) {
   StageReport st;

@@ -672,8 +672,7 @@ Scenario read_scenario(ScenarioDocument document) {
       stage.reached = values[index_in(r->at("value"), values, "value")];
       const std::string side = r->one_of({"above", "below"});
       stage.reached_above = side == "above";
-      stage.reached_threshold =
-          value_from_si(*stage.reached, r->at(side).quantity(value_dimension(*stage.reached)));
+      stage.reached_threshold = value_from_si(*stage.reached, r->at(side).quantity(value_dimension(*stage.reached)));
     }
     if (const auto sb = until.find("stable")) {
       sb->allow_only({"value", "tolerance", "window"});

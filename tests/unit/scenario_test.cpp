@@ -17,6 +17,7 @@
 #include "bushel/geometry/shapes.hpp"
 #include "bushel/io/csv.hpp"
 #include "bushel/io/stl.hpp"
+#include "bushel/scenario/run_summary.hpp"
 #include "bushel/scenario/scenario_run.hpp"
 #include "temp_dir_test.hpp"
 
@@ -345,6 +346,38 @@ outputs:
   // a skipped stage does not run: its result is null, without a warning
   EXPECT_TRUE(res["skipped"].is_null());
   for (const auto& w : j["warnings"]) EXPECT_EQ(w.get<std::string>().find("skipped"), std::string::npos) << w;
+  // the summary reads back as it was written (scenario/run_summary.hpp)
+  const RunSummary back = read_run_summary(path("out"));
+  EXPECT_EQ(back.scenario_name(), "s");
+  EXPECT_EQ(back.parameter("count"), "120");
+  EXPECT_EQ(back.parameter("nothing"), std::nullopt);
+  EXPECT_FALSE(back.interrupted);
+  ASSERT_EQ(back.stages.size(), r.stages.size());
+  for (std::size_t i = 0; i < r.stages.size(); ++i) {
+    const StageReport &a = r.stages[i], &b = back.stages[i];
+    EXPECT_EQ(a.name, b.name);
+    EXPECT_EQ(a.ended_by, b.ended_by);
+    EXPECT_EQ(a.end, b.end);
+    ASSERT_EQ(a.values.size(), b.values.size());
+    for (std::size_t k = 0; k < a.values.size(); ++k) {
+      EXPECT_EQ(a.values[k].first, b.values[k].first);
+      if (std::isfinite(a.values[k].second))
+        EXPECT_EQ(a.values[k].second, b.values[k].second) << a.values[k].first;
+      else
+        EXPECT_TRUE(std::isnan(b.values[k].second)) << a.values[k].first;
+    }
+    ASSERT_EQ(a.profiles.size(), b.profiles.size());
+    for (std::size_t k = 0; k < a.profiles.size(); ++k) EXPECT_EQ(a.profiles[k].radius, b.profiles[k].radius);
+  }
+  ASSERT_NE(back.result("stop_force"), nullptr);
+  EXPECT_EQ(back.result("stop_force")->value, press["push.force"]);
+  EXPECT_EQ(back.result("stop_force")->unit, "N");
+  EXPECT_EQ(back.result("flap_angle")->unit, "deg");
+  EXPECT_FALSE(back.result("skipped")->value.has_value());
+  ASSERT_EQ(back.factories.size(), 1u);
+  EXPECT_EQ(back.factories[0].count, 120u);
+  EXPECT_EQ(back.stage("press"), &back.stages[2]);
+
   // a result that cannot be computed is null, with a warning
   const Scenario zero = read(replaced(text, "  stop_force: press.push.force\n",
                                       "  stop_force: press.push.force\n  per_lost: 1 / settle.lost_mass\n"),

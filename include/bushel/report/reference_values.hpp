@@ -20,10 +20,10 @@ struct ReferenceValue {
   std::string result;    ///< the result it stands beside
   /// Parameters a run must have, with their values as written ("large", "5.1 cm").
   std::vector<std::pair<std::string, std::string>> conditions;
-  double value = 0.0;    ///< [SI; radians for angles]
+  double value = 0.0;  ///< [SI; radians for angles]
   units::Dimension dimension;
-  std::string source;    ///< where it comes from ("lab (study; 10 replicates)")
-  std::string origin;    ///< "file:line", for messages
+  std::string source;  ///< where it comes from ("lab (study; 10 replicates)")
+  std::string origin;  ///< "file:line", for messages
 };
 
 /// Parses a reference table; `source` names it in errors. Throws InputError (file, line,

@@ -40,8 +40,8 @@ struct ReportSeries {
   std::vector<double> x, y;  ///< x ignored for category plots; NaN: no point
 };
 struct ReportFigure {
-  std::string file;     ///< PNG file name, in the report's folder
-  std::string kind;     ///< "categories" (points per case), "lines" (x, y), "stacked" (bars of shares per case)
+  std::string file;  ///< PNG file name, in the report's folder
+  std::string kind;  ///< "categories" (points per case), "lines" (x, y), "stacked" (bars of shares per case)
   std::string title, xlabel, ylabel;
   std::vector<std::string> categories;  ///< for "categories" and "stacked"
   std::vector<ReportSeries> series;
@@ -70,8 +70,8 @@ struct ReportCsv {
 /// A result set beside a reference value.
 struct ReportComparison {
   std::string case_label, result;
-  std::string unit;         ///< of both values: the summary's (SI, degrees for angles)
-  double bushel = 0.0;      ///< the run's value; NaN if it has none
+  std::string unit;     ///< of both values: the summary's (SI, degrees for angles)
+  double bushel = 0.0;  ///< the run's value; NaN if it has none
   double reference = 0.0;
   std::string source;
   double difference = 0.0;  ///< (bushel - reference) / reference

@@ -36,18 +36,18 @@ struct FactorySummary {
 };
 
 struct RunSummary {
-  std::string directory;  ///< the run directory as given
-  std::string file;       ///< its summary.json
-  std::string scenario;   ///< the scenario file's path
+  std::string directory;                                        ///< the run directory as given
+  std::string file;                                             ///< its summary.json
+  std::string scenario;                                         ///< the scenario file's path
   std::vector<std::pair<std::string, std::string>> parameters;  ///< as run, in file order (text with units)
   std::vector<std::string> overrides;                           ///< "path=value" from --set
   bool interrupted = false;
-  double dt = 0.0;                   ///< [s]
-  std::size_t steps = 0;             ///< time steps
-  double simulated_time = 0.0;       ///< [s]
-  double wall_time = 0.0;            ///< [s]
-  double particle_steps_per_s = 0.0; ///< [1/s]
-  std::vector<StageReport> stages;   ///< the stages that ran (ended), with values and heap profiles
+  double dt = 0.0;                    ///< [s]
+  std::size_t steps = 0;              ///< time steps
+  double simulated_time = 0.0;        ///< [s]
+  double wall_time = 0.0;             ///< [s]
+  double particle_steps_per_s = 0.0;  ///< [1/s]
+  std::vector<StageReport> stages;    ///< the stages that ran (ended), with values and heap profiles
   std::vector<RunResult> results;
   std::vector<FactorySummary> factories;
   std::vector<std::string> warnings;

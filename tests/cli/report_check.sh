@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# `bushel report` on real run folders: the README's cup (finished) and an interrupted
+# calibration cup. The report names both, sets the cup against the study's lab value (n/a: the
+# run was cut short), writes CSV tables that hold the summaries' numbers, draws the figures
+# where matplotlib is installed, and bad input is a one-line error.
+# usage: report_check.sh BUSHEL CUP_POUR_RUN CUP_STOP_RUN WORKDIR
+set -euo pipefail
+bushel=$1; cup=$2; stopped=$3; work=$4
+rm -rf "$work"; mkdir -p "$work"
+fail() { echo "FAILED: $*"; exit 1; }
+
+out=$("$bushel" report "$cup" "$stopped" --out "$work/rep" --no-plots)
+[[ $out == *"runs     2 of 2 scenarios"* ]] || fail "summary lines: $out"
+[[ $out == *"bulk_density"*"826.1"*"lab (study"* ]] || fail "no comparison printed: $out"
+md=$(cat "$work/rep/report.md")
+[[ $md == *"## cup-pour"* && $md == *"## calibration-cup"* ]] || fail "sections: $md"
+[[ $md == *"interrupted at 0.0"* ]] || fail "the interrupted run's status: $md"
+[[ $md == *"| bulk_density [kg/m3] | n/a | 826.1 | lab (study"* ]] || fail "comparison row: $md"
+[[ -s "$work/rep/report.html" && -s "$work/rep/figures.json" ]] || fail "html or figures.json missing"
+
+# The CSV holds the summary's values to 10 digits.
+/usr/bin/python3 - "$cup" "$work/rep/cup-pour-results.csv" <<'PY' || fail "results CSV differs from summary.json"
+import csv, json, sys
+summary = json.load(open(sys.argv[1] + "/summary.json"))
+row = next(csv.DictReader(open(sys.argv[2])))
+assert summary["results"], "the cup-pour scenario has results"
+for name, r in summary["results"].items():
+    if r is None:
+        assert row[name] == "", name
+    else:
+        assert abs(float(row[name]) - r["value"]) <= 1e-9 * abs(r["value"]), (name, row[name], r["value"])
+PY
+
+# Figures, where Debian's matplotlib is installed (scripts/setup.sh installs it).
+if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
+  "$bushel" report "$cup" "$stopped" --out "$work/plots" >/dev/null
+  n=$(ls "$work/plots"/*.png | wc -l)
+  [[ $n -ge 1 ]] || fail "no PNG drawn"
+  for f in "$work/plots"/*.png; do
+    [[ $(head -c 8 "$f" | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] || fail "$f is not a PNG"
+  done
+  grep -q '<img src="calibration-cup-bulk_density.png"' "$work/plots/report.html" || fail "figure not linked"
+fi
+
+# Bad input: one line naming what was wrong.
+check_error() {
+  local want=$1; shift
+  if err=$("$bushel" "$@" 2>&1 >/dev/null); then fail "expected an error from: $*"; fi
+  [[ $(printf '%s\n' "$err" | wc -l) -eq 1 ]] || fail "not one line: $err"
+  [[ $err == *"$want"* ]] || fail "expected '$want' in: $err"
+}
+check_error "nothing: no such run folder" report "$work/nothing" --out "$work/x"
+check_error "no summary.json here nor in its sub-folders" report "$work/rep" --out "$work/x"
+check_error "key '--curve': expected X:Y" report "$cup" --curve pressure --out "$work/x"
+printf 'result,value,unit,source\nbulk_density,800,kg/m4,lab\n' > "$work/refs.csv"
+check_error "refs.csv:2: key 'value'" report "$cup" --reference "$work/refs.csv" --out "$work/x"
+echo "report check passed"
