@@ -8,7 +8,8 @@
 # Hours on 2 cores. Each case runs in runs/validation/cup-CASE with a checkpoint every 5
 # minutes; run the script again after an interruption (Ctrl-C, a reboot) and it continues
 # each unfinished case from its checkpoint and skips finished ones. The table of every case
-# so far is written to validation/results/cup.md (and printed) after each case.
+# so far is written to validation/results/cup.md (and printed) after each case, and at the end
+# `bushel report` draws the cases beside the measurements in validation/results/cup/.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bushel="${BUSHEL:-$root/build/release/bin/bushel}"
@@ -28,18 +29,23 @@ cases=("$@")
 [ ${#cases[@]} -gt 0 ] || cases=(large-5s medium-5s small-5s large-1s medium-1s small-1s)
 
 table() {
-  /usr/bin/python3 - "$runs" "${cases[@]}" <<'EOF'
-import json, os, sys
-runs, cases = sys.argv[1], sys.argv[2:]
-measured = {"large": 826.1, "medium": 798.1, "small": 778.5}   # wheat.md, 10 replicates, sd ~1.2
-edem = {"large": 828.7, "medium": 806.5, "small": 775.5}       # the study's EDEM, 5 spheres
+  /usr/bin/python3 - "$runs" "$root/data/reference_values.csv" "${cases[@]}" <<'EOF'
+import csv, json, os, sys
+runs, references, cases = sys.argv[1], sys.argv[2], sys.argv[3:]
+# the study's lab values (any model) and EDEM results (5 spheres), as `bushel report` uses them
+rows = [r for r in csv.DictReader(l for l in open(references) if not l.startswith("#"))
+        if r["scenario"] == "calibration-cup" and r["result"] == "bulk_density"]
+measured = {r["fraction"]: float(r["value"]) for r in rows if not r["model"]}
+edem = {r["fraction"]: float(r["value"]) for r in rows if r["model"] == "5s"}
 print("| case | bulk density [kg/m3] | struck | measured | EDEM (5s) | diff to measured | filling time [s] | heap angle [deg] | particles | simulated [s] | wall [h] | particle-steps/s | status |")
 print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for case in cases:
     fraction, model = case.split("-")
     path = os.path.join(runs, "cup-" + case, "summary.json")
     if not os.path.exists(path):
-        print(f"| {case} | | | {measured[fraction]} | {edem[fraction]} | | | | | | | | not started |")
+        started = os.path.exists(os.path.join(runs, "cup-" + case, "checkpoint.bin"))
+        print(f"| {case} | | | {measured[fraction]} | {edem[fraction] if model == '5s' else ''} | | | | | | | | "
+              f"{'running or stopped (a checkpoint)' if started else 'not started'} |")
         continue
     j = json.load(open(path))
     r = lambda k: (j["results"].get(k) or {}).get("value")
@@ -54,7 +60,9 @@ for case in cases:
 EOF
 }
 
+dirs=()
 for c in "${cases[@]}"; do
+  dirs+=("$runs/cup-$c")
   [ -n "${sets[$c]:-}" ] || { echo "unknown case '$c' (known: ${!sets[*]})" >&2; exit 2; }
   dir="$runs/cup-$c"
   rc=0
@@ -80,3 +88,4 @@ for c in "${cases[@]}"; do
   table > "$root/validation/results/cup.md"
 done
 table | tee "$root/validation/results/cup.md"
+"$bushel" report "${dirs[@]}" --out "$root/validation/results/cup" --title "Calibration cup at full size"
