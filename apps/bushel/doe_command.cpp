@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bushel/core/choice.hpp"
+#include "bushel/core/did_you_mean.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/doe/campaign.hpp"
 #include "bushel/doe/design.hpp"
@@ -19,7 +20,9 @@
 #include "bushel/doe/factor_table.hpp"
 #include "bushel/doe/regression.hpp"
 #include "bushel/io/atomic_file.hpp"
+#include "bushel/io/csv.hpp"
 #include "bushel/io/python_plot.hpp"
+#include "bushel/scenario/scenario.hpp"
 #include "bushel/units/units.hpp"
 #include "commands.hpp"
 
@@ -36,6 +39,8 @@ struct DoeOptions {
   bool no_randomize = false;
   // campaign
   std::vector<std::string> command;
+  std::string scenario;
+  std::vector<std::string> sets;
   int jobs = 1, threads = 0;
   double alpha = 0.1;
   double target = std::numeric_limits<double>::quiet_NaN();
@@ -405,12 +410,63 @@ void run_design(const DoeOptions& o) {
              o.no_randomize ? "standard" : fmt::format("random (seed {})", o.seed), o.out);
 }
 
+// A campaign over a scenario file: each row runs `bushel run SCENARIO --json` with the row's
+// factors as parameters (--set parameters.F=value) and the fixed --set overrides; the responses
+// are the scenario's results. Every row's scenario is read and validated before anything runs.
+std::vector<std::string> scenario_command(const DoeOptions& o, const std::vector<std::string>& responses) {
+  const io::CsvTable design = io::CsvTable::read(o.file);
+  static const std::vector<std::string> bookkeeping = {"std_order", "run_order", "center_pt", "pt_type", "block"};
+  std::vector<std::string> factors = split_list(o.factors, ',');
+  if (factors.empty()) {
+    for (const std::string& h : design.header()) {
+      if (std::find(bookkeeping.begin(), bookkeeping.end(), h) == bookkeeping.end()) factors.push_back(h);
+    }
+  }
+  for (const std::string& f : factors) (void)design.column(f);  // each is a column of the design
+  std::vector<std::string> command = {"{bushel}", "run", o.scenario, "--out", "{run_dir}", "--quiet", "--json"};
+  for (const std::string& s : o.sets) command.insert(command.end(), {"--set", s});
+  for (const std::string& f : factors) command.insert(command.end(), {"--set", "parameters." + f + "={" + f + "}"});
+
+  std::vector<Override> fixed;
+  for (const std::string& s : o.sets) fixed.push_back(parse_override(s));
+  for (const io::CsvRow& row : design.rows()) {
+    std::vector<Override> overrides = fixed;
+    for (const std::string& f : factors) {
+      overrides.push_back(parse_override("parameters." + f + "=" + row.fields[design.column(f)]));
+    }
+    try {
+      const Scenario sc = read_scenario(load_scenario_document(o.scenario, overrides));
+      std::vector<std::string> names;
+      for (const ResultSpec& r : sc.results) names.push_back(r.name);
+      for (const std::string& r : responses) {
+        if (std::find(names.begin(), names.end(), r) == names.end()) {
+          throw InputError("the scenario has no result '" + r + "'" + did_you_mean(r, names) +
+                           " (its results: section)")
+              .with_key("--response");
+        }
+      }
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{} (design row on line {} of {})", e.what(), row.line, o.file));
+    }
+  }
+  return command;
+}
+
 void run_campaign(const DoeOptions& o) {
   doe::CampaignSpec spec;
   spec.design = o.file;
   spec.out = o.out;
-  spec.command = o.command;
   spec.responses = split_list(o.response, ',');
+  if (!o.scenario.empty()) {
+    if (!o.command.empty()) {
+      throw InputError("expected --scenario FILE or a command after --, not both").with_key("--scenario");
+    }
+    spec.command = scenario_command(o, spec.responses);
+    spec.response_root = "results";
+  } else {
+    if (!o.sets.empty()) throw InputError("--set goes with --scenario").with_key("--set");
+    spec.command = o.command;
+  }
   spec.jobs = o.jobs;
   spec.threads = o.threads;
   const doe::CampaignReport r = doe::run_campaign(spec);
@@ -461,15 +517,22 @@ void add_doe_command(CLI::App& app) {
   auto* run_cmd = doe->add_subcommand("run", "Run a command per design row (resumable), collecting JSON responses");
   run_cmd->add_option("design", o->file, "Design CSV (std_order and factor columns)")->required();
   run_cmd->add_option("--out", o->out, "Campaign directory: run_<std_order>/ per row, results.csv")->required();
-  run_cmd->add_option("--response", o->response, "Keys of the command's JSON output to collect, e.g. mass_kg")
+  run_cmd
+      ->add_option("--response", o->response,
+                   "Keys of the command's JSON output to collect, e.g. mass_kg (with --scenario: its results)")
       ->required();
   run_cmd->add_option("--jobs", o->jobs, "Runs at a time")->capture_default_str();
   run_cmd->add_option("--threads", o->threads, "OpenMP threads per run (0: cores / jobs)")->capture_default_str();
-  run_cmd
-      ->add_option("command", o->command,
-                   "After --: the command per row; {column} is the row's value, {run_dir} its directory, "
-                   "{bushel} this program")
-      ->required();
+  run_cmd->add_option("--scenario", o->scenario,
+                      "Run this scenario per row: the design's factor columns are its parameters, the responses its "
+                      "results");
+  run_cmd->add_option("--set", o->sets, "With --scenario: a fixed override for every row, path.to.key=value");
+  run_cmd->add_option("--factors", o->factors,
+                      "With --scenario: the design's columns that are parameters (default: all but std_order, "
+                      "run_order, center_pt, pt_type, block)");
+  run_cmd->add_option("command", o->command,
+                      "After --: the command per row; {column} is the row's value, {run_dir} its directory, "
+                      "{bushel} this program");
   run_cmd->callback([o] { run_campaign(*o); });
   auto* optimize_cmd = doe->add_subcommand("optimize", "Factor settings at which the fitted response hits a target");
   add_common(optimize_cmd, *o);

@@ -5,7 +5,10 @@
 #include <cstdlib>
 #include <memory>
 
+#include <nlohmann/json.hpp>
+
 #include "bushel/core/input_error.hpp"
+#include "bushel/scenario/run_summary.hpp"
 #include "bushel/scenario/scenario.hpp"
 #include "bushel/scenario/scenario_run.hpp"
 #include "commands.hpp"
@@ -19,6 +22,7 @@ struct RunCommandOptions {
   int threads = 0;
   double checkpoint_minutes = 5.0;
   bool quiet = false;
+  bool json = false;
 };
 
 Scenario load(const RunCommandOptions& o) {
@@ -58,6 +62,8 @@ void add_run_command(CLI::App& app) {
                   "Stop at this simulated time (e.g. 0.5s) as Ctrl-C would: checkpoint written, continue with "
                   "--restart");
   run->add_flag("--quiet", o->quiet, "No progress lines");
+  run->add_flag("--json", o->json,
+                "At the end print the results as JSON (values in SI, angles in degrees; null: not computed)");
   run->callback([o] {
     RunOptions options;
     if (!o->stop_at.empty()) options.interrupt_at = option_quantity("--stop-at", o->stop_at, units::dim::time);
@@ -80,6 +86,23 @@ void add_run_command(CLI::App& app) {
       r = run_scenario(load(*o), options);
     }
     if (r.interrupted) std::exit(r.at_stop_time ? 0 : 130);  // checkpoint written; 130 as a shell reports Ctrl-C
+    if (o->json) {  // for programs: `bushel doe run --scenario` reads the results from here
+      const RunSummary summary = read_run_summary(options.out_dir);
+      nlohmann::ordered_json results = nlohmann::ordered_json::object(), units = nlohmann::ordered_json::object();
+      for (const RunResult& res : summary.results) {
+        results[res.name] = res.value ? nlohmann::ordered_json(*res.value) : nlohmann::ordered_json();
+        units[res.name] = res.unit;
+      }
+      const nlohmann::ordered_json j = {{"summary", summary.file},
+                                        {"results", results},
+                                        {"units", units},
+                                        {"simulated_time_s", summary.simulated_time},
+                                        {"wall_time_s", summary.wall_time},
+                                        {"particle_steps_per_s", summary.particle_steps_per_s},
+                                        {"warnings", summary.warnings}};
+      fmt::print("{}\n", j.dump(2));
+      return;
+    }
     for (const auto& s : r.stages) {
       fmt::print("stage {:<12} ended by {:<15} t = {:.4f} s\n", s.name, s.ended_by, s.end);
     }

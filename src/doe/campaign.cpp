@@ -202,7 +202,7 @@ void finish_run(Campaign& c, std::size_t i, int status) {
     nlohmann::json done = nlohmann::json::object();
     row.responses.clear();
     for (const std::string& key : c.spec.responses) {
-      row.responses.push_back(response_value(j, key));
+      row.responses.push_back(response_value(j, c.spec.response_root.empty() ? key : c.spec.response_root + "." + key));
       done[key] = row.responses.back();
     }
     io::write_file_atomically((dir / "done.json").string(), done.dump(2));

@@ -18,6 +18,7 @@ struct CampaignSpec {
                                        ///< row's value, {run_dir} by its directory, {bushel}
                                        ///< by this program
   std::vector<std::string> responses;  ///< keys in the command's JSON output ("a.b" nests)
+  std::string response_root;           ///< where the keys are: "" the output's top, "results" under it
   int jobs = 1;                        ///< runs at a time
   int threads = 0;                     ///< OpenMP threads per run (0: cores / jobs, at least 1)
 };
