@@ -8,39 +8,12 @@
 #include <stdexcept>
 
 #include "bushel/io/atomic_file.hpp"
+#include "bushel/io/xml_escape.hpp"
 
 namespace bushel::io {
 namespace {
 
 [[noreturn]] void invalid(const std::string& problem) { throw std::invalid_argument("vtu: " + problem); }
-
-// Attribute values are quoted; names and file names are user text.
-std::string xml_escaped(std::string_view s) {
-  std::string out;
-  out.reserve(s.size());
-  for (const char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 void check_array(const VtuArray& a, std::size_t count, std::string_view over) {
   if (a.name.empty()) invalid(fmt::format("a {} data array has no name", over));

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "bushel/io/xml_escape.hpp"
 #include "bushel/report/report.hpp"
 
 namespace bushel {
@@ -49,34 +50,11 @@ std::string markdown_table(const ReportTable& t) {
   return out;
 }
 
-std::string html_escape(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 // `code` spans of the Markdown text as <code> in HTML.
 std::string html_text(const std::string& s) {
   std::string out;
   bool code = false;
-  for (const char c : html_escape(s)) {
+  for (const char c : io::xml_escaped(s)) {
     if (c == '`') {
       out += code ? "</code>" : "<code>";
       code = !code;
@@ -89,13 +67,13 @@ std::string html_text(const std::string& s) {
 
 std::string html_table(const ReportTable& t) {
   std::string out = "<table>\n<tr>";
-  for (const std::string& h : t.header) out += "<th>" + html_escape(h) + "</th>";
+  for (const std::string& h : t.header) out += "<th>" + io::xml_escaped(h) + "</th>";
   out += "</tr>\n";
   const std::vector<bool> numeric = numeric_columns(t);
   for (const auto& row : t.rows) {
     out += "<tr>";
     for (std::size_t i = 0; i < row.size(); ++i) {
-      out += fmt::format("{}{}</td>", numeric[i] ? "<td class=\"n\">" : "<td>", html_escape(row[i]));
+      out += fmt::format("{}{}</td>", numeric[i] ? "<td class=\"n\">" : "<td>", io::xml_escaped(row[i]));
     }
     out += "</tr>\n";
   }
@@ -141,20 +119,20 @@ std::string report_markdown(const Report& report) {
 
 std::string report_html(const Report& report) {
   std::string out =
-      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + html_escape(report.title) +
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + io::xml_escaped(report.title) +
       "</title>\n<style>\nbody { font-family: sans-serif; max-width: 70em; margin: 2em auto; padding: 0 1em; }\n"
       "table { border-collapse: collapse; margin: 0.5em 0; font-size: 90%; }\n"
       "th, td { border: 1px solid #bbb; padding: 0.2em 0.5em; }\nth { background: #eee; }\n"
       "td.n { text-align: right; font-variant-numeric: tabular-nums; }\n"
       "figure { margin: 1em 0; } img { max-width: 100%; } .caption { color: #444; font-style: italic; }\n"
       "</style>\n</head>\n<body>\n<h1>" +
-      html_escape(report.title) + "</h1>\n";
+      io::xml_escaped(report.title) + "</h1>\n";
   for (const ReportSection& s : report.sections) {
-    out += "<h2>" + html_escape(s.title) + "</h2>\n";
+    out += "<h2>" + io::xml_escaped(s.title) + "</h2>\n";
     for (const ReportBlock& b : s.blocks) {
       switch (b.kind) {
         case ReportBlock::Kind::heading:
-          out += "<h3>" + html_escape(b.text) + "</h3>\n";
+          out += "<h3>" + io::xml_escaped(b.text) + "</h3>\n";
           break;
         case ReportBlock::Kind::text:
           out += "<p>" + html_text(b.text) + "</p>\n";
@@ -169,7 +147,7 @@ std::string report_html(const Report& report) {
           if (!b.text.empty()) out += "<p class=\"caption\">" + html_text(b.text) + "</p>\n";
           break;
         case ReportBlock::Kind::figure:
-          out += "<figure><img src=\"" + html_escape(b.figure.file) + "\" alt=\"" + html_escape(b.text) +
+          out += "<figure><img src=\"" + io::xml_escaped(b.figure.file) + "\" alt=\"" + io::xml_escaped(b.text) +
                  "\"><figcaption class=\"caption\">" + html_text(b.text) + "</figcaption></figure>\n";
           break;
       }
