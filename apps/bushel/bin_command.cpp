@@ -2,6 +2,8 @@
 // weight (or an in-bin density) and how it compacts under the grain above it (bin_model.hpp).
 #include <fmt/format.h>
 
+#include <cmath>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -11,6 +13,7 @@
 #include "bushel/core/input_error.hpp"
 #include "bushel/io/atomic_file.hpp"
 #include "bushel/io/python_plot.hpp"
+#include "bushel/scenario/run_summary.hpp"
 #include "bushel/units/units.hpp"
 #include "commands.hpp"
 
@@ -64,7 +67,36 @@ Compressibility choose_model(const BinOptions& o) {
       throw e.with_key("--extrapolate");
     }
   }();
-  if (!o.compressibility.empty()) return Compressibility::read_csv(o.compressibility, beyond);
+  if (!o.compressibility.empty()) {
+    namespace fs = std::filesystem;
+    if (!fs::is_directory(o.compressibility) && fs::path(o.compressibility).extension() != ".json") {
+      return Compressibility::read_csv(o.compressibility, beyond);
+    }
+    // A compression run (scenarios/compression.yaml): its results pressure_K and bulk_density_K.
+    const RunSummary run = read_run_summary(o.compressibility);
+    const auto points = run.curve("pressure", "bulk_density");
+    if (run.interrupted || points.size() < 2) {
+      throw InputError(fmt::format("expected a finished compression run with results pressure_K and bulk_density_K "
+                                   "(K = 0, 1, ...), found {} level{}{}",
+                                   points.size(), points.size() == 1 ? "" : "s",
+                                   run.interrupted ? " (the run was interrupted)" : ""))
+          .at(run.file)
+          .with_key("--compressibility");
+    }
+    // The loose sample carries no load: its level is pressure 0 (the lid rests above it).
+    const auto [p0, d0] = points[0];
+    if (std::abs(p0) > 1.0) {
+      throw InputError(fmt::format("expected the first level at 0 pressure (the loose sample), found {:.4g} Pa", p0))
+          .at(run.file)
+          .with_key("--compressibility");
+    }
+    std::vector<double> pressure{0.0}, ratio{1.0};
+    for (std::size_t i = 1; i < points.size(); ++i) {
+      pressure.push_back(points[i].first);
+      ratio.push_back(points[i].second / d0);
+    }
+    return Compressibility::table(pressure, ratio, beyond, run.file);
+  }
   if (o.incompressible) return Compressibility::none();
   if (o.moisture.empty())
     throw InputError("the WPACKING form needs the moisture content, e.g. 12%").with_key("--moisture");
@@ -236,7 +268,8 @@ void add_bin_command(CLI::App& app) {
   cmd->add_option("--grain", o->grain, "Grain of the standard bushel (wheat, corn, soybeans, ...)")
       ->capture_default_str();
   cmd->add_option("--compressibility", o->compressibility,
-                  "CSV of pressure and bulk_density (or packing_ratio), values with units, from 0 pressure");
+                  "CSV of pressure and bulk_density (or packing_ratio), values with units, from 0 pressure; or the "
+                  "folder of a compression run (its results pressure_K, bulk_density_K)");
   cmd->add_option("--wpacking", o->wpacking, "WPACKING coefficients a,b,c: D - D_o = a P + b sqrt(P) + c P MC");
   cmd->add_option("--moisture", o->moisture, "Moisture content (wet basis) for --wpacking, e.g. 12%");
   cmd->add_flag("--incompressible", o->incompressible, "No compaction: the density stays the initial one");

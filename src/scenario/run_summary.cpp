@@ -103,6 +103,17 @@ const StageReport* RunSummary::stage(const std::string& name) const {
   return it == stages.end() ? nullptr : &*it;
 }
 
+std::vector<std::pair<double, double>> RunSummary::curve(const std::string& x, const std::string& y) const {
+  std::vector<std::pair<double, double>> points;
+  for (const RunResult& r : results) {
+    if (r.name.rfind(x + "_", 0) != 0 || !r.value) continue;
+    const RunResult* other = result(y + "_" + r.name.substr(x.size() + 1));
+    if (other && other->value) points.emplace_back(*r.value, *other->value);
+  }
+  std::stable_sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  return points;
+}
+
 RunSummary read_run_summary(const std::string& path) {
   namespace fs = std::filesystem;
   RunSummary out;

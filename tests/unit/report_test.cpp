@@ -165,6 +165,20 @@ TEST(Report, LabelsCasesComparesWithReferencesAndWritesCsv) {
   EXPECT_TRUE(figures[0]["series"][1]["y"][2].is_null());
 }
 
+TEST(RunSummary, CurvesPairResultsBySuffixSortedAlongX) {
+  const RunSummary run = summary("c", "compression", {},
+                                 {{"pressure_b", 20.0, "Pa"},
+                                  {"bulk_density_b", 810.0, "kg/m3"},
+                                  {"pressure_a", 7.0, "Pa"},
+                                  {"bulk_density_a", 800.0, "kg/m3"},
+                                  {"pressure_c", 30.0, "Pa"},
+                                  {"bulk_density_c", std::nullopt, ""},
+                                  {"pressure_d", 40.0, "Pa"}});
+  using Points = std::vector<std::pair<double, double>>;
+  EXPECT_EQ(run.curve("pressure", "bulk_density"), (Points{{7.0, 800.0}, {20.0, 810.0}}));  // c: no value; d: no pair
+  EXPECT_TRUE(run.curve("bulk", "pressure").empty());
+}
+
 TEST(Report, CurvesPairResultsBySuffixInOrderOfTheAxis) {
   const std::vector<RunSummary> runs = {summary("comp", "compression", {},
                                                 {

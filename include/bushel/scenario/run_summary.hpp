@@ -60,6 +60,9 @@ struct RunSummary {
   const RunResult* result(const std::string& name) const;
   /// A stage by name, or nullptr (not run, or not in the scenario).
   const StageReport* stage(const std::string& name) const;
+  /// The points (x, y) of the results X_K and Y_K that share a suffix K and both have a value
+  /// ("pressure_3", "bulk_density_3"), sorted by x: the convention of docs/report.md.
+  std::vector<std::pair<double, double>> curve(const std::string& x, const std::string& y) const;
 };
 
 /// Reads `path`/summary.json (or `path` itself if it names a .json file). Throws InputError
