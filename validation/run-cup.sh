@@ -62,7 +62,7 @@ EOF
 
 dirs=()
 for c in "${cases[@]}"; do
-  dirs+=("$runs/cup-$c")
+  dirs+=("runs/validation/cup-$c")  # as the report shows them, from the root
   [ -n "${sets[$c]:-}" ] || { echo "unknown case '$c' (known: ${!sets[*]})" >&2; exit 2; }
   dir="$runs/cup-$c"
   rc=0
@@ -88,4 +88,4 @@ for c in "${cases[@]}"; do
   table > "$root/validation/results/cup.md"
 done
 table | tee "$root/validation/results/cup.md"
-"$bushel" report "${dirs[@]}" --out "$root/validation/results/cup" --title "Calibration cup at full size"
+(cd "$root" && "$bushel" report "${dirs[@]}" --out validation/results/cup --title "Calibration cup at full size")

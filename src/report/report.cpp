@@ -445,7 +445,12 @@ ReportSection scenario_section(const Group& g, const std::vector<ReferenceValue>
   std::vector<ReportCsv>& csv = report.csv_files;
   ReportSection s{g.scenario, {}};
   const RunSummary& first = *g.cases.front().run;
-  std::string intro = fmt::format("{} run{} of `{}`.", g.cases.size(), g.cases.size() == 1 ? "" : "s", first.scenario);
+  // The scenario's path as seen from here, where it lies below (a report travels with its project).
+  std::error_code ec;
+  const std::filesystem::path here = std::filesystem::current_path(ec);
+  const std::string scenario =
+      ec ? first.scenario : std::filesystem::path(first.scenario).lexically_proximate(here).string();
+  std::string intro = fmt::format("{} run{} of `{}`.", g.cases.size(), g.cases.size() == 1 ? "" : "s", scenario);
   if (!g.varied.empty()) {
     intro += " Varied:";
     for (std::size_t i = 0; i < g.varied.size(); ++i) intro += (i ? ", " : " ") + g.varied[i];
