@@ -448,8 +448,9 @@ ReportSection scenario_section(const Group& g, const std::vector<ReferenceValue>
   // The scenario's path as seen from here, where it lies below (a report travels with its project).
   std::error_code ec;
   const std::filesystem::path here = std::filesystem::current_path(ec);
-  const std::string scenario =
-      ec ? first.scenario : std::filesystem::path(first.scenario).lexically_proximate(here).string();
+  const std::filesystem::path relative = std::filesystem::path(first.scenario).lexically_proximate(here);
+  const bool below = !ec && !relative.empty() && *relative.begin() != "..";
+  const std::string scenario = below ? relative.string() : first.scenario;
   std::string intro = fmt::format("{} run{} of `{}`.", g.cases.size(), g.cases.size() == 1 ? "" : "s", scenario);
   if (!g.varied.empty()) {
     intro += " Varied:";
