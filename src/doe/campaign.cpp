@@ -49,7 +49,11 @@ std::vector<std::string> expand(const std::vector<std::string>& command, const s
       if (name == "run_dir") {
         text += run_dir;
       } else if (name == "bushel") {
-        text += fs::read_symlink("/proc/self/exe").string();
+        // This program, also after it was rebuilt mid-campaign: the link then reads "PATH
+        // (deleted)", and this process's link (not "self": a shell between would be self)
+        // still starts the image that is running.
+        const std::string self = fs::read_symlink("/proc/self/exe").string();
+        text += self.ends_with(" (deleted)") ? fmt::format("/proc/{}/exe", ::getpid()) : self;
       } else {
         const auto it = std::find(header.begin(), header.end(), name);
         if (it == header.end()) {

@@ -36,4 +36,12 @@ if "$bushel" doe run design.csv --out camp2 --response mass_kg -- {bushel} bin -
 fi
 grep -q "placeholder {kk} names no column of the design" err.txt || fail "message: $(cat err.txt)"
 [[ ! -e camp2 ]] || fail "camp2 created"
+
+# {bushel} still starts this program after its file is replaced mid-campaign (a rebuild): here
+# the first row deletes the copy that runs the campaign, and the later rows still run.
+cp "$bushel" ./bushel-copy
+out=$(./bushel-copy doe run design.csv --out camp3 --response mass_kg -- sh -c \
+  '"$0" bin --diameter 9m --grain-height 7m --test-weight 60lb/bu --incompressible --k "$1" --json; s=$?; rm -f "$0"; exit $s' \
+  {bushel} {k} 2>/dev/null) || fail "after the program's file was deleted: $out"
+[[ ! -e bushel-copy && $out == *"6 runs: 0 already done, 6 ran, 0 failed"* ]] || fail "deleted program: $out"
 echo "campaign check passed"
