@@ -83,19 +83,20 @@ Compressibility choose_model(const BinOptions& o) {
           .at(run.file)
           .with_key("--compressibility");
     }
-    // The loose sample carries no load: its level is pressure 0 (the lid rests above it).
-    const auto [p0, d0] = points[0];
-    if (std::abs(p0) > 1.0) {
-      throw InputError(fmt::format("expected the first level at 0 pressure (the loose sample), found {:.4g} Pa", p0))
+    // The loose sample carries no load: its level is pressure 0 (the lid rests above it), as
+    // measured to within 1 Pa.
+    if (std::abs(points[0].first) > 1.0) {
+      throw InputError(
+          fmt::format("expected the first level at 0 pressure (the loose sample), found {:.4g} Pa", points[0].first))
           .at(run.file)
           .with_key("--compressibility");
     }
-    std::vector<double> pressure{0.0}, ratio{1.0};
+    std::vector<double> pressure{0.0}, density{points[0].second};
     for (std::size_t i = 1; i < points.size(); ++i) {
       pressure.push_back(points[i].first);
-      ratio.push_back(points[i].second / d0);
+      density.push_back(points[i].second);
     }
-    return Compressibility::table(pressure, ratio, beyond, run.file);
+    return Compressibility::density_table(pressure, density, beyond, run.file);
   }
   if (o.incompressible) return Compressibility::none();
   if (o.moisture.empty())

@@ -104,11 +104,17 @@ Compressibility Compressibility::read_csv(const std::string& path, Extrapolation
     value.push_back(densities ? field(cv, units::dim::density, "bulk_density")
                               : field(cv, units::dim::dimensionless, "packing_ratio"));
   }
-  if (densities && !value.empty() && value.front() > 0.0) {
-    const double d0 = value.front();
-    for (double& v : value) v /= d0;
+  return densities ? density_table(std::move(pressure), std::move(value), beyond, path)
+                   : table(std::move(pressure), std::move(value), beyond, path);
+}
+
+Compressibility Compressibility::density_table(std::vector<double> pressure, std::vector<double> density,
+                                               Extrapolation beyond, std::string source) {
+  if (!density.empty() && density.front() > 0.0) {
+    const double d0 = density.front();
+    for (double& v : density) v /= d0;
   }
-  return table(std::move(pressure), std::move(value), beyond, path);
+  return table(std::move(pressure), std::move(density), beyond, std::move(source));
 }
 
 double Compressibility::table_ratio(double p) const {

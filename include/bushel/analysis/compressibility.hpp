@@ -37,6 +37,10 @@ class Compressibility {
   /// pressure other than 0, pressures not strictly increasing or a non-positive ratio.
   static Compressibility table(std::vector<double> pressure, std::vector<double> ratio, Extrapolation beyond,
                                std::string source);
+  /// A table of bulk densities [kg/m3] at pressures [Pa], ascending from 0: the ratios to the
+  /// first density go into table() (a first density that is not positive is refused there).
+  static Compressibility density_table(std::vector<double> pressure, std::vector<double> density, Extrapolation beyond,
+                                       std::string source);
   /// Reads a CSV table with a column `pressure` and a column `bulk_density` (turned into
   /// ratios to the density at 0 pressure) or `packing_ratio`; every value carries its unit
   /// ("7kPa", "812.4kg/m3"; a ratio is a plain number). Errors name the file, line and column.
