@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <limits>
 #include <map>
-#include <set>
 
 #include "bushel/core/input_error.hpp"
 #include "bushel/scenario/scenario.hpp"
@@ -298,15 +297,17 @@ void add_references(ReportSection& s, Report& report, const Group& g, const std:
   const std::size_t first = report.comparisons.size();
   std::vector<std::string> results;  // with a reference in some run, in the order of the results
   std::map<std::string, std::vector<std::string>> sources;
+  const auto runs = g.runs();
   for (const std::string& name : g.results) {
+    // Where no run has a value (all interrupted, say), none says its unit: the reference's is used.
+    const bool known =
+        std::any_of(runs.begin(), runs.end(), [&](const RunSummary* r) { return std::isfinite(value_of(*r, name)); });
+    const std::string unit_of_runs = known ? unit_of(runs, name) : std::string();
     for (const Case& c : g.cases) {
       if (!c.run->result(name)) continue;
-      const bool known = std::any_of(g.cases.begin(), g.cases.end(),
-                                     [&](const Case& x) { return std::isfinite(value_of(*x.run, name)); });
       for (const ReferenceValue& ref : references) {
         if (ref.result != name || !reference_applies(ref, *c.run)) continue;
-        // No run has a value (all interrupted, say), so none says its unit: the reference's
-        const std::string unit = known ? unit_of(g.runs(), name) : std::string(result_unit(ref.dimension));
+        const std::string unit = known ? unit_of_runs : std::string(result_unit(ref.dimension));
         const double reference = reference_in_unit_of(ref, RunResult{name, std::nullopt, unit});
         const double sim = value_of(*c.run, name);
         report.comparisons.push_back({c.label, name, unit, sim, reference, ref.source, (sim - reference) / reference});
