@@ -7,9 +7,12 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <optional>
+#include <utility>
 
 #include "bushel/analysis/bin_model.hpp"
 #include "bushel/analysis/grain_trade.hpp"
+#include "bushel/core/did_you_mean.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/io/atomic_file.hpp"
 #include "bushel/io/python_plot.hpp"
@@ -52,6 +55,50 @@ fig.suptitle(sys.argv[3])
 fig.tight_layout()
 fig.savefig(sys.argv[2], dpi=120)
 )py";
+
+// A run folder (or summary.json) named by --initial-density, with the result to take after a
+// colon: "runs/drop:bulk_density_sensor". Not a path: nothing (the option is a quantity).
+struct RunResultRef {
+  std::string path, result;
+};
+std::optional<RunResultRef> run_result_ref(const std::string& text) {
+  namespace fs = std::filesystem;
+  const auto colon = text.rfind(':');
+  const std::string path = colon == std::string::npos ? text : text.substr(0, colon);
+  if (!fs::is_directory(path) && fs::path(path).extension() != ".json") return std::nullopt;
+  return RunResultRef{path, colon == std::string::npos ? "bulk_density" : text.substr(colon + 1)};
+}
+
+// D_o: a density, or a density result of a finished run (a drop-height run's bulk density in
+// the kettle stands for grain that has fallen into a bin). Also says where it came from.
+std::pair<double, std::string> initial_density(const BinOptions& o) {
+  if (o.test_weight.empty() == o.initial_density.empty()) {
+    throw InputError("expected one of --test-weight (e.g. 60lb/bu) or --initial-density (e.g. 780kg/m3)")
+        .with_key("--test-weight");
+  }
+  if (!o.test_weight.empty()) return {option_quantity("--test-weight", o.test_weight, units::dim::density), ""};
+  const auto ref = run_result_ref(o.initial_density);
+  if (!ref) return {option_quantity("--initial-density", o.initial_density, units::dim::density), ""};
+  const RunSummary run = read_run_summary(ref->path);
+  auto fail = [&](const std::string& problem) {
+    return InputError(problem).at(run.file).with_key("--initial-density");
+  };
+  if (run.interrupted) throw fail("expected a finished run; this one was interrupted");
+  const RunResult* r = run.result(ref->result);
+  if (r == nullptr) {
+    std::vector<std::string> names;
+    std::string densities;
+    for (const RunResult& x : run.results) {
+      names.push_back(x.name);
+      if (x.unit == "kg/m3") densities += (densities.empty() ? "" : ", ") + x.name;
+    }
+    throw fail(fmt::format("no result '{}'{}; the run's densities: {} (choose one with RUN_DIR:RESULT)", ref->result,
+                           did_you_mean(ref->result, names), densities.empty() ? "none" : densities));
+  }
+  if (r->unit != "kg/m3") throw fail(fmt::format("expected a density, but result '{}' is in '{}'", r->name, r->unit));
+  if (!r->value) throw fail(fmt::format("the run could not compute result '{}'", r->name));
+  return {*r->value, fmt::format("result {} of {}", r->name, run.file)};
+}
 
 Compressibility choose_model(const BinOptions& o) {
   const int chosen = static_cast<int>(!o.compressibility.empty()) + static_cast<int>(!o.wpacking.empty()) +
@@ -183,12 +230,7 @@ std::string describe(const BinSpec& s) {
 
 void run_bin(const BinOptions& o) {
   const BinSpec spec = choose_bin(o);
-  if (o.test_weight.empty() == o.initial_density.empty()) {
-    throw InputError("expected one of --test-weight (e.g. 60lb/bu) or --initial-density (e.g. 780kg/m3)")
-        .with_key("--test-weight");
-  }
-  const double d0 = o.test_weight.empty() ? option_quantity("--initial-density", o.initial_density, units::dim::density)
-                                          : option_quantity("--test-weight", o.test_weight, units::dim::density);
+  const auto [d0, d0_source] = initial_density(o);
   const StandardBushel& standard = [&]() -> const StandardBushel& {
     try {
       return standard_bushel(o.grain);
@@ -223,6 +265,7 @@ void run_bin(const BinOptions& o) {
         {"compressibility", model.describe()},
         {"grain", standard.grain},
         {"initial_density_kg_m3", d0},
+        {"initial_density_from", d0_source},
         {"standard_test_weight_kg_m3", d_s},
         {"volume_m3", r.volume},
         {"volume_bu", r.volume / bushel},
@@ -240,6 +283,7 @@ void run_bin(const BinOptions& o) {
   fmt::print("bin                     {}\n", describe(spec));
   fmt::print("grain                   {}, initial bulk density {:.1f} kg/m3 ({:.2f} lb/bu); standard {:.0f} lb/bu\n",
              standard.grain, d0, d0 / lb_bu, standard.pounds);
+  if (!d0_source.empty()) fmt::print("initial density from    {}\n", d0_source);
   fmt::print("compressibility         {}\n", model.describe());
   fmt::print("Janssen                 K {:.3f}, mu_w {:.3f}, {} layers\n", spec.lateral_ratio, spec.wall_friction,
              spec.layers);
@@ -265,7 +309,8 @@ void add_bin_command(CLI::App& app) {
       ->required();
   cmd->add_option("--test-weight", o->test_weight, "Initial density as a test weight, e.g. 60lb/bu");
   cmd->add_option("--initial-density", o->initial_density,
-                  "Initial (uncompacted) in-bin density instead, e.g. 790kg/m3 from a drop-height simulation");
+                  "Initial (uncompacted) in-bin density instead: e.g. 790kg/m3, or a drop-height run's folder and "
+                  "result, RUN_DIR[:RESULT] (default result bulk_density)");
   cmd->add_option("--grain", o->grain, "Grain of the standard bushel (wheat, corn, soybeans, ...)")
       ->capture_default_str();
   cmd->add_option("--compressibility", o->compressibility,

@@ -1,6 +1,7 @@
 // `bushel doe analyze|optimize`: the statistics of a designed experiment from any CSV with
 // factor and response columns (doe/regression.hpp), as tables, JSON and PNG plots.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -31,7 +32,7 @@ namespace bushel::cli {
 namespace {
 
 struct DoeOptions {
-  std::string file, factors, response, model = "main", levels, plots, fix, goals, block;
+  std::string file, factors, response, model = "main", levels, plots, fix, goals, block, where;
   // design
   std::string kind, ccd = "face", generators, out;
   int runs = 0, centre = -1, fraction = 0, blocks = 1;
@@ -81,7 +82,8 @@ Analysis analyze(const DoeOptions& o) {
       throw e.with_key("--model");
     }
   }();
-  doe::FactorTable table = doe::read_factor_table(o.file, factors, o.response, parse_levels(o.levels), o.block);
+  doe::FactorTable table = doe::read_factor_table(o.file, factors, o.response, parse_levels(o.levels), o.block,
+                                                  doe::RowFilter::parse(o.where));
   doe::Fit fit = doe::fit(table.coded, table.response, factors, kind, o.alpha, table.blocks);
   return {std::move(table), std::move(fit)};
 }
@@ -94,6 +96,8 @@ nlohmann::ordered_json to_json(const Analysis& a, const DoeOptions& o) {
   j["model"] = o.model;
   j["alpha"] = o.alpha;
   j["runs"] = a.fit.runs;
+  j["where"] = o.where;
+  j["excluded_lines"] = a.table.excluded_lines;
   j["factors"] = nlohmann::ordered_json::array();
   for (const doe::Factor& f : a.table.factors)
     j["factors"].push_back({{"name", f.name}, {"low", f.low}, {"high", f.high}});
@@ -178,7 +182,12 @@ if any("*" in t["term"] and t["term"].split("*")[0] == t["term"].split("*")[1] f
 
 void print_analysis(const Analysis& a, const DoeOptions& o) {
   const doe::Fit& f = a.fit;
-  fmt::print("{}: {} runs, model {}, response {}\n\n", o.file, f.runs, o.model, o.response);
+  fmt::print("{}: {} runs, model {}, response {}\n", o.file, f.runs, o.model, o.response);
+  if (!a.table.excluded_lines.empty()) {
+    fmt::print("left out by --where {}: {} run(s), on line(s) {}\n", o.where, a.table.excluded_lines.size(),
+               fmt::join(a.table.excluded_lines, ", "));
+  }
+  fmt::print("\n");
   fmt::print("Coded coefficients (alpha {}; * significant)\n", o.alpha);
   fmt::print("{:<24} {:>10} {:>10} {:>9} {:>8} {:>8}\n", "Term", "Effect", "Coef", "SE Coef", "T", "P");
   for (const doe::Coefficient& c : f.coefficients) {
@@ -486,6 +495,9 @@ void add_common(CLI::App* cmd, DoeOptions& o) {
   cmd->add_option("--alpha", o.alpha, "Significance level")->capture_default_str();
   cmd->add_option("--levels", o.levels, "Low and high levels, name=low:high,... (default: each column's range)");
   cmd->add_option("--block", o.block, "Column of block labels: block terms in the model (Minitab's Blocks)");
+  cmd->add_option("--where", o.where,
+                  "Only the rows where these hold, e.g. overflow_mass>0.001,status==done (a run without the value is "
+                  "left out)");
   cmd->add_flag("--json", o.json, "Print JSON");
 }
 

@@ -12,17 +12,31 @@ namespace bushel::doe {
 FactorTable read_factor_table(const std::string& path, const std::vector<std::string>& factors,
                               const std::string& response,
                               const std::map<std::string, std::pair<double, double>>& levels,
-                              const std::string& block_column) {
+                              const std::string& block_column, const RowFilter& where) {
   const io::CsvTable t = io::CsvTable::read(path);
-  const auto n = static_cast<Eigen::Index>(t.rows().size());
-  if (n == 0) throw InputError("expected rows of runs").at(path);
+  where.check_columns(t);
   FactorTable out;
+  std::vector<io::CsvRow> rows;
+  for (const io::CsvRow& row : t.rows()) {
+    if (where.keeps(t, row)) {
+      rows.push_back(row);
+    } else {
+      out.excluded_lines.push_back(row.line);
+    }
+  }
+  const auto n = static_cast<Eigen::Index>(rows.size());
+  if (n == 0) {
+    throw InputError(
+        where.empty() ? "expected rows of runs"
+                      : fmt::format("expected rows of runs; --where {} left out all {}", where.text(), t.rows().size()))
+        .at(path);
+  }
   out.coded.resize(n, static_cast<Eigen::Index>(factors.size()));
   out.response.resize(n);
   auto column_values = [&](const std::string& name) {
     const std::size_t c = t.column(name);
     Eigen::VectorXd v(n);
-    for (Eigen::Index r = 0; r < n; ++r) v(r) = t.number(t.rows()[static_cast<std::size_t>(r)], c);
+    for (Eigen::Index r = 0; r < n; ++r) v(r) = t.number(rows[static_cast<std::size_t>(r)], c);
     return v;
   };
   for (std::size_t f = 0; f < factors.size(); ++f) {
@@ -41,7 +55,7 @@ FactorTable read_factor_table(const std::string& path, const std::vector<std::st
   out.response = column_values(response);
   if (!block_column.empty()) {
     const std::size_t c = t.column(block_column);
-    for (const io::CsvRow& row : t.rows()) {
+    for (const io::CsvRow& row : rows) {
       const double b = t.number(row, c);
       if (b != std::round(b)) {
         throw InputError(fmt::format("expected an integer block label, got {}", b))

@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "bushel/doe/row_filter.hpp"
+
 namespace bushel::doe {
 
 /// A factor and its two levels in physical units.
@@ -20,19 +22,20 @@ struct Factor {
 
 struct FactorTable {
   std::vector<Factor> factors;
-  Eigen::MatrixXd coded;     ///< runs x factors
-  Eigen::VectorXd response;  ///< one per run
-  std::vector<int> blocks;   ///< block label per run (empty without a block column)
+  Eigen::MatrixXd coded;            ///< runs x factors
+  Eigen::VectorXd response;         ///< one per run
+  std::vector<int> blocks;          ///< block label per run (empty without a block column)
+  std::vector<int> excluded_lines;  ///< CSV lines of the rows `where` left out
 };
 
 /// Reads `path`; `factors` name columns, `response` a column, `block_column` (if not empty)
-/// a column of integer block labels. A factor's levels are those in
+/// a column of integer block labels; only the rows that `where` keeps count. A factor's levels are those in
 /// `levels` (name -> low, high) or else its smallest and largest value in the table. Throws
 /// InputError naming the file, line and column for a missing column, a cell that is not a
-/// number, or a factor that does not vary.
+/// number, a factor that does not vary, or no row left.
 FactorTable read_factor_table(const std::string& path, const std::vector<std::string>& factors,
                               const std::string& response,
                               const std::map<std::string, std::pair<double, double>>& levels = {},
-                              const std::string& block_column = "");
+                              const std::string& block_column = "", const RowFilter& where = {});
 
 }  // namespace bushel::doe
