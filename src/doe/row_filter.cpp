@@ -39,7 +39,9 @@ RowCondition parse_condition(const std::string& item) {
       c.numeric = true;
     } catch (const InputError&) {
       if (op != RowCondition::Op::equal && op != RowCondition::Op::not_equal) {
-        throw InputError(fmt::format("expected a number after '{}' in '{}'", symbol, item)).with_key("--where");
+        throw InputError(
+            fmt::format("expected a number after '{}' in '{}' (a plain number, in the table's units)", symbol, item))
+            .with_key("--where");
       }
     }
     return c;
