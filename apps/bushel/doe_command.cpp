@@ -180,13 +180,18 @@ if any("*" in t["term"] and t["term"].split("*")[0] == t["term"].split("*")[1] f
     fig.tight_layout(); fig.savefig(os.path.join(out, "contours.png"), dpi=120)
 )py";
 
-void print_analysis(const Analysis& a, const DoeOptions& o) {
-  const doe::Fit& f = a.fit;
-  fmt::print("{}: {} runs, model {}, response {}\n", o.file, f.runs, o.model, o.response);
+// The runs a fit stands on, and those --where left out.
+void print_runs(const Analysis& a, const DoeOptions& o) {
+  fmt::print("{}: {} runs, model {}, response {}\n", o.file, a.fit.runs, o.model, o.response);
   if (!a.table.excluded_lines.empty()) {
     fmt::print("left out by --where {}: {} run(s), on line(s) {}\n", o.where, a.table.excluded_lines.size(),
                fmt::join(a.table.excluded_lines, ", "));
   }
+}
+
+void print_analysis(const Analysis& a, const DoeOptions& o) {
+  const doe::Fit& f = a.fit;
+  print_runs(a, o);
   fmt::print("\n");
   fmt::print("Coded coefficients (alpha {}; * significant)\n", o.alpha);
   fmt::print("{:<24} {:>10} {:>10} {:>9} {:>8} {:>8}\n", "Term", "Effect", "Coef", "SE Coef", "T", "P");
@@ -331,9 +336,12 @@ void run_optimize(const DoeOptions& o) {
     }
     j["predicted"] = predicted;
     j["prediction_interval_95"] = {predicted - half, predicted + half};
+    j["runs"] = a.fit.runs;
+    j["excluded_lines"] = a.table.excluded_lines;
     fmt::print("{}\n", j.dump(2));
     return;
   }
+  print_runs(a, o);
   fmt::print("settings that give {} = {} (the point of the solution set reached from the centre)\n", o.response,
              o.target);
   for (std::size_t i = 0; i < a.table.factors.size(); ++i) {
