@@ -43,13 +43,13 @@ simulate() {
   fi
   if [ -f "$dir/checkpoint.bin" ]; then
     echo "== $name: continuing from its checkpoint"
-    "$bushel" run --restart "$dir" --quiet
+    "$bushel" run --restart "$dir"
     return
   fi
   local sets=() p
   for p in "$@"; do sets+=(--set "parameters.$p"); done
   echo "== $name: bushel run scenarios/$scenario --out $dir ${sets[*]}"
-  "$bushel" run "$root/scenarios/$scenario" --out "$dir" --quiet "${sets[@]}"
+  "$bushel" run "$root/scenarios/$scenario" --out "$dir" "${sets[@]}"
 }
 
 simulate drop test-weight.yaml "drop=$drop" ${drop_sets[@]+"${drop_sets[@]}"}
