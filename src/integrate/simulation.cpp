@@ -940,6 +940,7 @@ void Simulation::compute_forces(const Rolling&) {
     ps.rolling_resistance[b] = cdt;
   }
   max_overlap_ratio_ = max_ratio;
+  peak_overlap_ratio_ = std::max(peak_overlap_ratio_, max_ratio);
   contacts_ = touching;
   forces_valid_ = true;
 }

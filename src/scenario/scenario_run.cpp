@@ -260,7 +260,13 @@ struct Position {
   std::uint64_t series_bytes = 0;  // timeseries.csv up to the last row
   std::vector<StageReport> done;   // stages finished
   std::vector<std::string> warnings;
+  double peak_overlap = 0.0;  // the current stage's largest overlap over the smaller radius
 };
+
+// physics.md section 3: warn when the largest overlap exceeds a few percent of the radius.
+// Deeper than this the contacts are too soft for the impacts or loads of the stage, and what
+// it measures (a density under load above all) includes kernels interpenetrating.
+constexpr double overlap_warning_ratio = 0.05;
 
 void put(io::BinaryWriter& out, const StageReport& r) {
   out.put(r.name);
@@ -380,6 +386,7 @@ class Runner {
     for (const auto& f : st_.flows) f.save(out);
     if (frames_) frames_->save(out);
     st_.sim.save_state(out);
+    out.put(pos_.peak_overlap);  // (added after the format's first runs: last, and optional on reading)
     io::write_file_atomically((std::filesystem::path(o_.out_dir) / "checkpoint.bin").string(), out.bytes());
     last_checkpoint_ = Clock::now();
   }
@@ -414,6 +421,7 @@ class Runner {
     for (auto& f : st_.flows) f.load(in);
     if (frames_) frames_->load(in);
     st_.sim.load_state(in);
+    if (!in.done()) in.get(pos_.peak_overlap);
     if (!in.done()) throw InputError("unexpected data at the end of the checkpoint (a damaged file?)");
   }
 
@@ -532,6 +540,8 @@ class Runner {
         const auto n = static_cast<std::uint64_t>(std::max(1.0, std::round(span / dt)));
         const double before = sim.time();
         sim.step(n);
+        pos_.peak_overlap = std::max(pos_.peak_overlap, sim.peak_overlap_ratio());
+        sim.reset_peak_overlap_ratio();
         pos_.particle_steps += static_cast<double>(n) * static_cast<double>(sim.particles().bodies());
         for (std::size_t f = 0; f < st_.factories.size(); ++f) {
           if (!st_.factory_on[f]) continue;
@@ -560,6 +570,14 @@ class Runner {
         pos_.warnings.push_back(
             fmt::format("stage '{}' ended at its time limit before its condition was met", stage.name));
       }
+      if (pos_.peak_overlap > overlap_warning_ratio) {
+        pos_.warnings.push_back(fmt::format(
+            "stage '{}': the largest overlap reached {:.1f} % of the smaller radius (more than {:.0f} %): the "
+            "contacts are soft for this stage's impacts or load, and what it measures includes kernels "
+            "interpenetrating (a stiffer material, or a gentler load or drop)",
+            stage.name, 100.0 * pos_.peak_overlap, 100.0 * overlap_warning_ratio));
+      }
+      pos_.peak_overlap = 0.0;
       pos_.done.push_back(std::move(sr));
       ++pos_.stage;
       pos_.stage_started = false;

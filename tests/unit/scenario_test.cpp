@@ -427,6 +427,33 @@ TEST_F(ScenarioRun, AStageCanTakeAPartAway) {
   EXPECT_NE(io::read_text_file(last).find("NumberOfCells=\"0\""), std::string::npos);
 }
 
+TEST_F(ScenarioRun, WarnsOfDeepOverlapsOncePerStageAcrossACheckpoint) {
+  // physics.md section 3: a warning when the largest overlap exceeds a few percent of the
+  // radius. Kernels 500 times softer than wheat sink into each other under their own weight in
+  // the cup (the default ones, FillsSettlesAndWritesItsOutputs, stay far below: no warning).
+  const Scenario sc = read(replaced(small, "shear_modulus: 22.4 MPa", "shear_modulus: 44.8 kPa"),
+                           {parse_override("parameters.count=150")});
+  RunOptions whole;
+  whole.out_dir = path("whole");
+  whole.progress = false;
+  const RunReport a = run_scenario(sc, whole);
+  ASSERT_FALSE(a.interrupted);
+  std::vector<std::string> overlaps;
+  for (const std::string& w : a.warnings)
+    if (w.find("the largest overlap reached") != std::string::npos) overlaps.push_back(w);
+  ASSERT_FALSE(overlaps.empty());
+  EXPECT_NE(overlaps.back().find("stage 'settle'"), std::string::npos) << overlaps.back();
+  EXPECT_NE(overlaps.back().find("more than 5 %"), std::string::npos) << overlaps.back();
+  // Stopped in the settling and continued: the stage's deepest overlap before the checkpoint
+  // still counts, so the warnings are the same.
+  RunOptions cut = whole;
+  cut.out_dir = path("cut");
+  cut.interrupt_at = 0.5 * (a.stages[1].start + a.stages[1].end);
+  ASSERT_TRUE(run_scenario(sc, cut).interrupted);
+  cut.interrupt_at = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(resume_scenario(cut).warnings, a.warnings);
+}
+
 TEST_F(ScenarioRun, ContinuesBitForBitFromACheckpoint) {
   // The same run whole, and stopped twice (as by Ctrl-C: in the fill, then in the settling)
   // and continued from its checkpoint each time: the same final state to the bit, the same
@@ -459,6 +486,7 @@ TEST_F(ScenarioRun, ContinuesBitForBitFromACheckpoint) {
   EXPECT_EQ(ja["stages"], jb["stages"]);
   EXPECT_EQ(ja["factories"], jb["factories"]);
   EXPECT_EQ(ja["steps"], jb["steps"]);
+  EXPECT_EQ(ja["warnings"], jb["warnings"]);
   EXPECT_EQ(io::read_text_file(path("whole/timeseries.csv")), io::read_text_file(path("cut/timeseries.csv")));
   EXPECT_EQ(io::read_text_file(path("whole/frames/particles.pvd")),
             io::read_text_file(path("cut/frames/particles.pvd")));

@@ -29,10 +29,10 @@ struct FactorTable {
 };
 
 /// Reads `path`; `factors` name columns, `response` a column, `block_column` (if not empty)
-/// a column of integer block labels; only the rows that `where` keeps count. A factor's levels are those in
-/// `levels` (name -> low, high) or else its smallest and largest value in the table. Throws
-/// InputError naming the file, line and column for a missing column, a cell that is not a
-/// number, a factor that does not vary, or no row left.
+/// a column of integer block labels; only the rows that `where` keeps count. A factor's
+/// levels are those in `levels` (name -> low, high) or else its smallest and largest value
+/// among the kept rows. Throws InputError naming the file, line and column for a missing
+/// column, a cell that is not a number, a factor that does not vary, or no row left.
 FactorTable read_factor_table(const std::string& path, const std::vector<std::string>& factors,
                               const std::string& response,
                               const std::map<std::string, std::pair<double, double>>& levels = {},

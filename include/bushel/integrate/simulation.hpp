@@ -95,6 +95,10 @@ class Simulation {
   const SimulationSettings& settings() const { return settings_; }
   /// Largest overlap over the radius of the smaller sphere in the last step [-].
   double max_overlap_ratio() const { return max_overlap_ratio_; }
+  /// Largest max_overlap_ratio() of any step since the last reset [-]: a diagnostic, not part
+  /// of the saved state.
+  double peak_overlap_ratio() const { return peak_overlap_ratio_; }
+  void reset_peak_overlap_ratio() { peak_overlap_ratio_ = 0.0; }
   /// Number of sphere-sphere contacts (overlap > 0) in the last step.
   std::size_t contacts() const { return contacts_; }
   const NeighborList& neighbors() const { return neighbors_; }
@@ -163,6 +167,7 @@ class Simulation {
   double time_ = 0.0;
   std::uint64_t steps_ = 0;
   double max_overlap_ratio_ = 0.0;
+  double peak_overlap_ratio_ = 0.0;
   std::size_t contacts_ = 0;
 };
 
