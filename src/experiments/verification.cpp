@@ -219,9 +219,26 @@ std::vector<CheckResult> rest(const Options& o) {
   sim.step(o.quick ? 20'000 : 100'000);
   const auto& p = sim.particles();
   const Vec3 d = p.position[0] - start;
+  // The unbalanced force ratio (mean net force over mean contact force): 1 in free fall, where
+  // nothing balances gravity; towards 0 as a stack of two spheres on the plane (a sphere-
+  // sphere and a sphere-part contact) comes to rest from just touching.
+  Simulation falling(settings(dt, {0.5, 0.27, 0.01}, {0, 0, -g}));
+  falling.add_part(floor_wall());
+  falling.particles().add(falling.particles().add_type(type), {{0, 0, 10 * radius}, {}, {}, {}});
+  falling.step(1);
+  Simulation stack(settings(dt, {0.5, 0.27, 0.01}, {0, 0, -g}));
+  stack.add_part(floor_wall());
+  const auto ts = stack.particles().add_type(type);
+  stack.particles().add(ts, {{0, 0, radius}, {}, {}, {}});
+  stack.particles().add(ts, {{0, 0, 3 * radius}, {}, {}, {}});
+  stack.step(o.quick ? 20'000 : 100'000);
   return {result("at rest on a plane: horizontal drift", "|dx| [m]", 0.0, std::hypot(d.x, d.y), 1e-12),
           result("at rest on a plane: speed", "|v| [m/s]", 0.0, norm(p.velocity[0]), 1e-6),
-          result("at rest on a plane: spin", "|omega| [rad/s]", 0.0, norm(p.angular_velocity[0]), 1e-9)};
+          result("at rest on a plane: spin", "|omega| [rad/s]", 0.0, norm(p.angular_velocity[0]), 1e-9),
+          result("at rest on a plane: unbalanced force ratio", "ratio [-]", 0.0, sim.unbalanced_force_ratio(), 1e-9),
+          result("in free fall: unbalanced force ratio", "ratio [-]", 1.0, falling.unbalanced_force_ratio(), 1e-12),
+          result("two spheres stacked on a plane, settled: unbalanced force ratio", "ratio [-]", 0.0,
+                 stack.unbalanced_force_ratio(), 1e-6)};
 }
 
 std::vector<CheckResult> run_all(const Options& o) {

@@ -144,6 +144,7 @@ struct ContactViews {
 struct ChunkResult {
   double max_ratio = 0.0;    // largest overlap over the smaller radius
   std::size_t touching = 0;  // sphere-sphere contacts
+  double force_sum = 0.0;    // their force magnitudes, summed in pair order [N]
 };
 
 // The contacts of elements [e0, e1): their pairs [p0, p1) as first element, then their part
@@ -201,6 +202,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       Vec3 t_i{pb.tix[k], pb.tiy[k], pb.tiz[k]}, t_j{pb.tjx[k], pb.tjy[k], pb.tjz[k]};
       if constexpr (Rolling::has_torque) t_i += roll.torque_i, t_j += roll.torque_j;
       element_force[i] += f;
+      r.force_sum += norm(f);
       element_torque[i] += t_i;
       element_cdt[i] += roll.cdt_i;
       if (second_direct[j]) {  // this thread has all of j's pairs as second: sum in pair order
@@ -875,6 +877,7 @@ void Simulation::compute_forces(const Rolling&) {
   double max_ratio = 0.0;
   std::size_t touching = 0;
   const std::size_t n_chunks = chunk_start_.size() - 1;
+  chunk_force_sum_.resize(n_chunks);
 #pragma omp parallel reduction(max : max_ratio) reduction(+ : touching) if (static_cast <std::ptrdiff_t>(ps.spheres()) > \
                                                                                 parallel_threshold)
   {
@@ -896,8 +899,12 @@ void Simulation::compute_forces(const Rolling&) {
           contact_chunk<Rolling>(views, e0, e1, neighbors_.begin_of(e0), neighbors_.begin_of(e1), *work);
       max_ratio = std::max(max_ratio, r.max_ratio);
       touching += r.touching;
+      chunk_force_sum_[c] = r.force_sum;
     }
   }
+  // (summed in chunk order: the same sum for any thread count)
+  pair_force_sum_ = 0.0;
+  for (std::size_t c = 0; c < n_chunks; ++c) pair_force_sum_ += chunk_force_sum_[c];
   sum_part_reactions();
 
   // --- gather onto bodies, in a fixed order -------------------------------------------------
@@ -949,10 +956,12 @@ void Simulation::sum_part_reactions() {
   // Fixed chunks of candidates, summed in order: the same sums for any thread count, without
   // a serial pass over every candidate.
   const std::size_t n_w = parts_.size(), n_c = part_of_candidate_.size();
+  part_force_sum_ = 0.0;
+  part_contacts_ = 0;
   if (n_w == 0) return;
   constexpr std::size_t chunks = 64;
   const std::size_t per_chunk = (n_c + chunks - 1) / chunks;
-  part_partial_.assign(3 * chunks * n_w, Vec3{});  // force, torque, (touches, 0, 0)
+  part_partial_.assign(3 * chunks * n_w, Vec3{});  // force, torque, (touches, sum of |force|, touching)
   const auto nc = static_cast<std::ptrdiff_t>(chunks);
 #pragma omp parallel for schedule(static) if (static_cast <std::ptrdiff_t>(n_c) > parallel_threshold)
   for (std::ptrdiff_t sc = 0; sc < nc; ++sc) {
@@ -963,6 +972,8 @@ void Simulation::sum_part_reactions() {
       out[3 * w] += part_reaction_[2 * c];
       out[3 * w + 1] += part_reaction_[2 * c + 1];
       out[3 * w + 2].x += candidate_touches_[c];
+      out[3 * w + 2].y += norm(part_reaction_[2 * c]);
+      out[3 * w + 2].z += candidate_touches_[c] > 0 ? 1.0 : 0.0;
     }
   }
   for (std::size_t w = 0; w < n_w; ++w) {
@@ -972,11 +983,36 @@ void Simulation::sum_part_reactions() {
       f += part_partial_[3 * (k * n_w + w)];
       t += part_partial_[3 * (k * n_w + w) + 1];
       touches += part_partial_[3 * (k * n_w + w) + 2].x;
+      part_force_sum_ += part_partial_[3 * (k * n_w + w) + 2].y;
+      part_contacts_ += static_cast<std::size_t>(part_partial_[3 * (k * n_w + w) + 2].z);
     }
     parts_[w].force = f;
     parts_[w].torque = t;
     parts_[w].touches = static_cast<std::size_t>(touches);
   }
+}
+
+void Simulation::save_force_sums(io::BinaryWriter& out) const {
+  out.put(pair_force_sum_);
+  out.put(part_force_sum_);
+  out.put(static_cast<std::uint64_t>(part_contacts_));
+}
+
+void Simulation::load_force_sums(io::BinaryReader& in) {
+  in.get(pair_force_sum_);
+  in.get(part_force_sum_);
+  part_contacts_ = static_cast<std::size_t>(in.get<std::uint64_t>());
+}
+
+double Simulation::unbalanced_force_ratio() const {
+  const auto& ps = particles_;
+  const std::size_t n = ps.bodies(), touching = contacts_ + part_contacts_;
+  if (n == 0) return 0.0;
+  double net = 0.0;  // (in body order: the same sum for any thread count)
+  for (std::size_t b = 0; b < n; ++b) net += norm(ps.force[b]);
+  const double contact = pair_force_sum_ + part_force_sum_;
+  if (touching == 0 || !(contact > 0.0)) return net > 0.0 ? 1.0 : 0.0;
+  return (net / static_cast<double>(n)) / (contact / static_cast<double>(touching));
 }
 
 void Simulation::move_parts(double t, double dt) {

@@ -254,6 +254,7 @@ const std::vector<std::string>& global_value_names() {
                                                  "kinetic_energy_per_particle",
                                                  "potential_energy",
                                                  "max_overlap_ratio",
+                                                 "unbalanced_force",
                                                  "contacts",
                                                  "created_mass",
                                                  "removed_mass",

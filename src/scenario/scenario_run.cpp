@@ -98,6 +98,7 @@ struct RunState {
          n > 0 ? ke / n : 0.0,
          potential,
          sim.max_overlap_ratio(),
+         sim.unbalanced_force_ratio(),
          static_cast<double>(sim.contacts()),
          created,
          removed,
@@ -261,12 +262,31 @@ struct Position {
   std::vector<StageReport> done;   // stages finished
   std::vector<std::string> warnings;
   double peak_overlap = 0.0;  // the current stage's largest overlap over the smaller radius
+  std::vector<std::pair<std::string, double>> deep_overlaps;  // stages whose peak passed the warning's
 };
 
 // physics.md section 3: warn when the largest overlap exceeds a few percent of the radius.
 // Deeper than this the contacts are too soft for the impacts or loads of the stage, and what
 // it measures (a density under load above all) includes kernels interpenetrating.
 constexpr double overlap_warning_ratio = 0.05;
+
+// One warning for the stages whose deepest overlap passed overlap_warning_ratio.
+std::string overlap_warning(const std::vector<std::pair<std::string, double>>& stages) {
+  const auto deepest =
+      std::max_element(stages.begin(), stages.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  auto named = [](const std::pair<std::string, double>& s) {
+    return fmt::format("'{}' ({:.1f} %)", s.first, 100.0 * s.second);
+  };
+  const std::string where = stages.size() == 1 ? "stage " + named(stages.front())
+                                               : fmt::format("{} stages, from {} to {}, at most {:.1f} % in '{}'",
+                                                             stages.size(), named(stages.front()), named(stages.back()),
+                                                             100.0 * deepest->second, deepest->first);
+  return fmt::format(
+      "the largest overlap passed {:.0f} % of the smaller radius in {}: the contacts are soft for these impacts or "
+      "loads, and what those stages measure includes kernels interpenetrating (a stiffer material, or a gentler "
+      "load or drop)",
+      100.0 * overlap_warning_ratio, where);
+}
 
 void put(io::BinaryWriter& out, const StageReport& r) {
   out.put(r.name);
@@ -386,7 +406,11 @@ class Runner {
     for (const auto& f : st_.flows) f.save(out);
     if (frames_) frames_->save(out);
     st_.sim.save_state(out);
-    out.put(pos_.peak_overlap);  // (added after the format's first runs: last, and optional on reading)
+    // (added after the format's first runs: last, and optional on reading)
+    out.put(pos_.peak_overlap);
+    st_.sim.save_force_sums(out);
+    out.put(static_cast<std::uint64_t>(pos_.deep_overlaps.size()));
+    for (const auto& [name, peak] : pos_.deep_overlaps) out.put(name), out.put(peak);
     io::write_file_atomically((std::filesystem::path(o_.out_dir) / "checkpoint.bin").string(), out.bytes());
     last_checkpoint_ = Clock::now();
   }
@@ -421,7 +445,12 @@ class Runner {
     for (auto& f : st_.flows) f.load(in);
     if (frames_) frames_->load(in);
     st_.sim.load_state(in);
-    if (!in.done()) in.get(pos_.peak_overlap);
+    if (!in.done()) {
+      in.get(pos_.peak_overlap);
+      st_.sim.load_force_sums(in);
+      pos_.deep_overlaps.resize(in.get<std::uint64_t>());
+      for (auto& [name, peak] : pos_.deep_overlaps) in.get(name), in.get(peak);
+    }
     if (!in.done()) throw InputError("unexpected data at the end of the checkpoint (a damaged file?)");
   }
 
@@ -570,13 +599,7 @@ class Runner {
         pos_.warnings.push_back(
             fmt::format("stage '{}' ended at its time limit before its condition was met", stage.name));
       }
-      if (pos_.peak_overlap > overlap_warning_ratio) {
-        pos_.warnings.push_back(fmt::format(
-            "stage '{}': the largest overlap reached {:.1f} % of the smaller radius (more than {:.0f} %): the "
-            "contacts are soft for this stage's impacts or load, and what it measures includes kernels "
-            "interpenetrating (a stiffer material, or a gentler load or drop)",
-            stage.name, 100.0 * pos_.peak_overlap, 100.0 * overlap_warning_ratio));
-      }
+      if (pos_.peak_overlap > overlap_warning_ratio) pos_.deep_overlaps.emplace_back(stage.name, pos_.peak_overlap);
       pos_.peak_overlap = 0.0;
       pos_.done.push_back(std::move(sr));
       ++pos_.stage;
@@ -601,6 +624,7 @@ class Runner {
     report.wall_time = wall();
     report.particle_steps = pos_.particle_steps;
     report.warnings = pos_.warnings;
+    if (!pos_.deep_overlaps.empty()) report.warnings.push_back(overlap_warning(pos_.deep_overlaps));
     if (!interrupted) {
       for (const auto& f : st_.factories) {
         if (f.done()) continue;

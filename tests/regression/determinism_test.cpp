@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "bushel/experiments/pour_scene.hpp"
+#include "bushel/io/binary_archive.hpp"
 
 #ifdef BUSHEL_HAVE_OPENMP
 #include <omp.h>
@@ -20,18 +21,22 @@ std::uint64_t fnv1a(std::uint64_t h, const void* data, std::size_t n) {
   return h;
 }
 
+PourSpec bed_spec() {
+  PourSpec spec;
+  spec.count = 1200;  // 6000 sphere elements: above the parallel threshold
+  spec.particle = "large_5s";
+  spec.solid_fraction = 0.35;
+  spec.initial_speed = 0.5;  // collisions from the first steps
+  return spec;
+}
+
 std::uint64_t run_and_hash(int threads, std::uint64_t steps) {
 #ifdef BUSHEL_HAVE_OPENMP
   omp_set_num_threads(threads);
 #else
   (void)threads;
 #endif
-  PourSpec spec;
-  spec.count = 1200;  // 6000 sphere elements: above the parallel threshold
-  spec.particle = "large_5s";
-  spec.solid_fraction = 0.35;
-  spec.initial_speed = 0.5;  // collisions from the first steps
-  PourScene scene = make_pour_scene(spec);
+  PourScene scene = make_pour_scene(bed_spec());
   std::size_t contacts_seen = 0;  // summed over sampled steps: the run must really collide
   for (std::uint64_t k = 0; k < steps; k += 10) {
     scene.simulation.step(10);
@@ -47,6 +52,10 @@ std::uint64_t run_and_hash(int threads, std::uint64_t steps) {
     h = fnv1a(h, &p.orientation[b], sizeof(Quat));
     h = fnv1a(h, &p.angular_velocity[b], sizeof(Vec3));
   }
+  // and the diagnostics summed across threads: the unbalanced force's contact force sums
+  const double unbalanced = scene.simulation.unbalanced_force_ratio();
+  EXPECT_GT(unbalanced, 0.0);
+  h = fnv1a(h, &unbalanced, sizeof(double));
   EXPECT_GT(contacts_seen, 300u);
   EXPECT_GT(scene.simulation.neighbors().builds(), 10u);
   return h;
@@ -58,6 +67,24 @@ TEST(Determinism, SameStateAtOneAndTwoThreads) {
   const std::uint64_t two = run_and_hash(2, steps);
   EXPECT_EQ(one, two);
   EXPECT_EQ(run_and_hash(2, steps), two);  // and the same again
+}
+
+TEST(Determinism, TheUnbalancedForceComesBackFromASavedState) {
+  // The contact force sums are saved apart from the state (for older checkpoints); with both,
+  // a simulation built again reads the same ratio to the bit before it takes a step.
+  PourScene a = make_pour_scene(bed_spec());
+  a.simulation.step(300);
+  io::BinaryWriter out;
+  a.simulation.save_state(out);
+  a.simulation.save_force_sums(out);
+  const std::string bytes = out.bytes();
+  PourScene b = make_pour_scene(bed_spec());
+  io::BinaryReader in(bytes, "state");
+  b.simulation.load_state(in);
+  b.simulation.load_force_sums(in);
+  EXPECT_TRUE(in.done());
+  EXPECT_EQ(b.simulation.unbalanced_force_ratio(), a.simulation.unbalanced_force_ratio());
+  EXPECT_GT(a.simulation.unbalanced_force_ratio(), 0.0);
 }
 
 }  // namespace

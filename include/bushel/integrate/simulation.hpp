@@ -86,6 +86,10 @@ class Simulation {
   /// settings, types and parts continues bit for bit as the saved one would have.
   void save_state(io::BinaryWriter& out) const;
   void load_state(io::BinaryReader& in);
+  /// The last step's contact force sums (of unbalanced_force_ratio), which save_state leaves
+  /// out: a checkpoint stores them after everything else, so that older ones still load.
+  void save_force_sums(io::BinaryWriter& out) const;
+  void load_force_sums(io::BinaryReader& in);
 
   /// Advances `n` steps.
   void step(std::uint64_t n = 1);
@@ -99,6 +103,11 @@ class Simulation {
   /// of the saved state.
   double peak_overlap_ratio() const { return peak_overlap_ratio_; }
   void reset_peak_overlap_ratio() { peak_overlap_ratio_ = 0.0; }
+  /// The unbalanced force ratio of the last step [-]: the mean net force on a particle over
+  /// the mean force of a contact (sphere-sphere, and sphere-part per sphere and part), as
+  /// Yade defines it. It falls towards 0 as a packing comes to static equilibrium (about 1e-4
+  /// is quasi-static, wheat.md); 1 when nothing touches while a force acts, 0 with no particles.
+  double unbalanced_force_ratio() const;
   /// Number of sphere-sphere contacts (overlap > 0) in the last step.
   std::size_t contacts() const { return contacts_; }
   const NeighborList& neighbors() const { return neighbors_; }
@@ -168,6 +177,10 @@ class Simulation {
   std::uint64_t steps_ = 0;
   double max_overlap_ratio_ = 0.0;
   double peak_overlap_ratio_ = 0.0;
+  std::vector<double> chunk_force_sum_;  // per chunk of elements: its pairs' force magnitudes [N]
+  double pair_force_sum_ = 0.0;          // force magnitudes of the sphere-sphere contacts [N]
+  double part_force_sum_ = 0.0;          // force magnitudes of the sphere-part contacts [N]
+  std::size_t part_contacts_ = 0;        // spheres touching a part, per part
   std::size_t contacts_ = 0;
 };
 
