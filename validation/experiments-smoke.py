@@ -6,7 +6,8 @@ few minutes on 2 cores, checked for the behaviour physics requires:
                     overflows; striking lowers the bulk density below the heaped cup's;
                     sinks do not change the bulk density beyond the seed-to-seed noise
   test weight       the bulk density rises with the drop height (h and 16 h)
-  compression       the bulk density rises with every pressure level
+  compression       the bulk density rises with every pressure level; every hold ends
+                    quasi-static (unbalanced force ratio below 1e-4)
   tapped density    tapping raises the bulk density
 
 The reduced versions use the single-sphere model (the sphere of each kernel's mass) and small
@@ -122,6 +123,9 @@ def main():
         curve = [result(comp, "bulk_density_0")] + [result(comp, f"bulk_density_{k}") for k in range(1, 8)]
         check("compression", "the bulk density rises with every pressure level (0, 7 ... 138 kPa)",
               " < ".join(f"{x:.1f}" for x in curve), all(b > a_ for a_, b in zip(curve, curve[1:])))
+        unbalanced = [result(comp, f"unbalanced_{k}") for k in range(1, 8)]
+        check("compression", "every hold ends quasi-static: unbalanced force ratio below 1e-4 (wheat.md)",
+              ", ".join(f"{u:.1e}" for u in unbalanced), max(unbalanced) < 1e-4)
     if a.only in (None, "tapped"):
         tap = run(a.bushel, "tapped", a.out)
         check("tapped density", "tapping raises the bulk density",
