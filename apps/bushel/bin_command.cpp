@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -62,10 +61,9 @@ struct RunResultRef {
   std::string path, result;
 };
 std::optional<RunResultRef> run_result_ref(const std::string& text) {
-  namespace fs = std::filesystem;
   const auto colon = text.rfind(':');
   const std::string path = colon == std::string::npos ? text : text.substr(0, colon);
-  if (!fs::is_directory(path) && fs::path(path).extension() != ".json") return std::nullopt;
+  if (!names_run(path)) return std::nullopt;
   return RunResultRef{path, colon == std::string::npos ? "bulk_density" : text.substr(colon + 1)};
 }
 
@@ -115,8 +113,7 @@ Compressibility choose_model(const BinOptions& o) {
     }
   }();
   if (!o.compressibility.empty()) {
-    namespace fs = std::filesystem;
-    if (!fs::is_directory(o.compressibility) && fs::path(o.compressibility).extension() != ".json") {
+    if (!names_run(o.compressibility)) {
       return Compressibility::read_csv(o.compressibility, beyond);
     }
     // A compression run (scenarios/compression.yaml): its results pressure_K and bulk_density_K.

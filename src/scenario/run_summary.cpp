@@ -114,6 +114,10 @@ std::vector<std::pair<double, double>> RunSummary::curve(const std::string& x, c
   return points;
 }
 
+bool names_run(const std::string& path) {
+  return std::filesystem::is_directory(path) || std::filesystem::path(path).extension() == ".json";
+}
+
 RunSummary read_run_summary(const std::string& path) {
   namespace fs = std::filesystem;
   RunSummary out;

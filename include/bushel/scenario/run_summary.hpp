@@ -65,6 +65,10 @@ struct RunSummary {
   std::vector<std::pair<double, double>> curve(const std::string& x, const std::string& y) const;
 };
 
+/// True if `path` names what read_run_summary reads, a folder or a .json file, rather than
+/// something else (a table, a quantity).
+bool names_run(const std::string& path);
+
 /// Reads `path`/summary.json (or `path` itself if it names a .json file). Throws InputError
 /// naming the file (and the key) if it is missing, is not JSON or is not a bushel summary.
 RunSummary read_run_summary(const std::string& path);
