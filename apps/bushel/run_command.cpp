@@ -31,17 +31,23 @@ Scenario load(const RunCommandOptions& o) {
   return read_scenario(load_scenario_document(o.scenario, overrides));
 }
 
+std::string time_step_text(double dt, double fraction, double rayleigh_step) {
+  return fmt::format("{:.4g} us ({})", dt * 1e6,
+                     fraction > 0.0 ? fmt::format("{:g} of the Rayleigh step {:.4g} us", fraction, rayleigh_step * 1e6)
+                                    : fmt::format("Rayleigh step {:.4g} us", rayleigh_step * 1e6));
+}
+
 void describe(const Scenario& sc) {
   fmt::print("{}: valid\n", sc.document.file);
-  fmt::print("  time step      {:.4g} us ({})\n", sc.settings.dt * 1e6,
-             sc.time_step_fraction > 0.0
-                 ? fmt::format("{:g} of the Rayleigh step {:.4g} us", sc.time_step_fraction, sc.rayleigh_step * 1e6)
-                 : fmt::format("Rayleigh step {:.4g} us", sc.rayleigh_step * 1e6));
+  fmt::print("  time step      {}\n", time_step_text(sc.settings.dt, sc.time_step_fraction, sc.rayleigh_step));
   fmt::print("  particle types {}\n", sc.types.size());
   fmt::print("  parts          {}\n", sc.parts.size());
   fmt::print("  factories      {}\n", sc.factories.size());
   fmt::print("  sensors        {}\n", sc.sensors.size());
-  for (const auto& s : sc.stages) fmt::print("  stage          {}\n", s.name);
+  for (const auto& s : sc.stages) {
+    fmt::print("  stage          {}{}{}\n", s.name, s.enabled ? "" : " (skipped)",
+               s.dt ? ", time step " + time_step_text(*s.dt, s.time_step_fraction, sc.rayleigh_step) : "");
+  }
 }
 
 }  // namespace

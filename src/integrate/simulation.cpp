@@ -401,6 +401,11 @@ Simulation::Simulation(SimulationSettings settings)
   if (settings_.skin < 0.0) throw InputError("expected a non-negative skin").with_key("skin");
 }
 
+void Simulation::set_time_step(double dt) {
+  if (!(dt > 0.0) || !std::isfinite(dt)) throw InputError("expected a positive time step").with_key("dt");
+  settings_.dt = dt;
+}
+
 std::size_t Simulation::add_part(Part part) {
   const std::string key = "parts." + part.name;
   if (part.name.empty()) throw InputError("expected a name for every geometry part").with_key("parts");

@@ -223,6 +223,37 @@ std::pair<Vec3, Vec3> part_bounds(const Part& part) {
   return {lo, hi};
 }
 
+// A time step, "20 us" or "0.2 rayleigh" (of the smallest element's Rayleigh step): [s].
+// `fraction` is set to the Rayleigh fraction if given so, else 0.
+double read_time_step(const ScenarioNode& ts, double rayleigh_step, double& fraction) {
+  const std::string text = ts.text();
+  const std::string suffix = "rayleigh";
+  if (text.size() > suffix.size() && text.ends_with(suffix)) {
+    try {
+      fraction = units::parse(text.substr(0, text.size() - suffix.size()), dim::dimensionless);
+    } catch (const InputError& e) {
+      throw ts.error(e.problem());
+    }
+    if (!(fraction > 0.0 && fraction <= 1.0)) {
+      throw ts.error("expected a fraction of the Rayleigh step in (0, 1], e.g. '0.2 rayleigh' or '20% rayleigh'");
+    }
+    return fraction * rayleigh_step;
+  }
+  fraction = 0.0;
+  const double dt = ts.quantity(dim::time);
+  if (!(dt > 0.0) || !std::isfinite(dt)) {
+    throw ts.error("expected a positive time, got '" + text +
+                   "' (e.g. '2 us', or '0.2 rayleigh' of the Rayleigh step)");
+  }
+  if (dt > rayleigh_step) {
+    throw ts.error(fmt::format(
+        "a time step of {:.4g} us is above the Rayleigh step of the smallest element ({:.4g} us): the contacts "
+        "would be unstable",
+        dt * 1e6, rayleigh_step * 1e6));
+  }
+  return dt;
+}
+
 }  // namespace
 
 std::vector<std::string> SensorSpec::values(const std::vector<std::string>& type_names) const {
@@ -411,30 +442,7 @@ Scenario read_scenario(ScenarioDocument document) {
         std::min(sc.rayleigh_step, rayleigh_time_step(t.shape.min_sphere_radius(), t.material.density,
                                                       t.material.shear_modulus, t.material.poisson_ratio));
   }
-  {
-    const ScenarioNode ts = sim.at("time_step");
-    const std::string text = ts.text();
-    const std::string suffix = "rayleigh";
-    if (text.size() > suffix.size() && text.ends_with(suffix)) {
-      try {
-        sc.time_step_fraction = units::parse(text.substr(0, text.size() - suffix.size()), dim::dimensionless);
-      } catch (const InputError& e) {
-        throw ts.error(e.problem());
-      }
-      if (!(sc.time_step_fraction > 0.0 && sc.time_step_fraction <= 1.0)) {
-        throw ts.error("expected a fraction of the Rayleigh step in (0, 1], e.g. '0.2 rayleigh' or '20% rayleigh'");
-      }
-      st.dt = sc.time_step_fraction * sc.rayleigh_step;
-    } else {
-      st.dt = sim.positive("time_step", dim::time);
-      if (st.dt > sc.rayleigh_step) {
-        throw ts.error(
-            fmt::format("a time step of {:.4g} us is above the Rayleigh step of the smallest element ({:.4g} "
-                        "us): the contacts would be unstable",
-                        st.dt * 1e6, sc.rayleigh_step * 1e6));
-      }
-    }
-  }
+  st.dt = read_time_step(sim.at("time_step"), sc.rayleigh_step, sc.time_step_fraction);
 
   // --- contacts -------------------------------------------------------------------------------
   if (const auto c = root.find("contacts")) {
@@ -620,10 +628,16 @@ Scenario read_scenario(ScenarioDocument document) {
 
   // --- stages ---------------------------------------------------------------------------------
   for (const ScenarioNode& s : root.at("stages").items()) {
-    s.allow_only({"name", "enabled", "enable", "disable", "motions", "until"});
+    s.allow_only({"name", "enabled", "time_step", "enable", "disable", "motions", "until"});
     StageSpec stage;
     stage.name = s.at("name").text();
+    if (std::any_of(sc.stages.begin(), sc.stages.end(), [&](const StageSpec& x) { return x.name == stage.name; })) {
+      throw s.at("name").error("a second stage named '" + stage.name +
+                               "': results and reports name stages, so each "
+                               "name must be unique");
+    }
     stage.enabled = s.boolean_or("enabled", true);
+    if (s.has("time_step")) stage.dt = read_time_step(s.at("time_step"), sc.rayleigh_step, stage.time_step_fraction);
     for (const auto& [key, on] : {std::pair<const char*, bool>{"enable", true}, {"disable", false}}) {
       if (const auto list = s.find(key)) {
         // factories, sinks and parts by name (one list of all, so a typo is matched against all)

@@ -463,7 +463,7 @@ class Runner {
   // The first end condition the stage meets now, or "".
   std::string ended_by(const StageSpec& stage) {
     const Simulation& sim = st_.sim;
-    const double dt = sc_.settings.dt, elapsed = sim.time() - pos_.t0;
+    const double dt = sim.settings().dt, elapsed = sim.time() - pos_.t0;
     if (stage.duration && elapsed >= *stage.duration - 0.5 * dt) return "time";
     if (elapsed >= stage.min_time - 0.5 * dt && elapsed > 0.0) {
       if (stage.kinetic_energy && st_.kinetic_energy_per_particle() < *stage.kinetic_energy) return "kinetic_energy";
@@ -515,7 +515,6 @@ class Runner {
 
   RunReport loop() {
     Simulation& sim = st_.sim;
-    const double dt = sc_.settings.dt;
     wall0_ = last_line_ = last_checkpoint_ = Clock::now();
     tty_ = o_.progress && isatty(fileno(stderr)) != 0;
     bool interrupted = false, at_stop_time = false;
@@ -535,6 +534,9 @@ class Runner {
         for (const auto& [p, m] : stage.motions) sim.set_motion(p, shifted(m, pos_.t0));
         pos_.stage_started = true;
       }
+      // (set on every entry, a restart's too: the step is the scenario's, not the checkpoint's)
+      sim.set_time_step(stage.dt.value_or(sc_.settings.dt));
+      const double dt = sim.settings().dt;
       stage_wall0_ = Clock::now();
       stage_time0_ = sim.time();
       stage_steps0_ = sim.steps();
@@ -677,6 +679,13 @@ class Runner {
     return j;
   }
 
+  // The time step a stage ran with [s] (stage names are unique).
+  double stage_dt(const std::string& name) const {
+    const auto s =
+        std::find_if(sc_.stages.begin(), sc_.stages.end(), [&](const StageSpec& x) { return x.name == name; });
+    return s != sc_.stages.end() && s->dt ? *s->dt : sc_.settings.dt;
+  }
+
   void write_summary(const RunReport& report) {
     namespace fs = std::filesystem;
     nlohmann::ordered_json j;
@@ -700,6 +709,7 @@ class Runner {
                         {"start_s", s.start},
                         {"end_s", s.end},
                         {"steps", s.steps},
+                        {"dt_s", stage_dt(s.name)},
                         {"values", values_json(s.values)},
                         {"heap_profiles", profiles_json(s.profiles)}});
     }

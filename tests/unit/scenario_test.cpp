@@ -143,6 +143,18 @@ TEST(Scenario, ErrorsNameTheFileLineAndKey) {
             std::string::npos);
   EXPECT_NE(error_of(replaced(small, "time_step: 0.2 rayleigh", "time_step: 1 ms")).find("above the Rayleigh step"),
             std::string::npos);
+  // a stage's own time step is checked as the simulation's is, at its line
+  EXPECT_NE(error_of(replaced(small, "  - name: settle\n", "  - name: settle\n    time_step: 1 ms\n"))
+                .find("s.yaml:32: key 'stages.1.time_step': a time step of 1000 us is above the Rayleigh step"),
+            std::string::npos)
+      << error_of(replaced(small, "  - name: settle\n", "  - name: settle\n    time_step: 1 ms\n"));
+  EXPECT_NE(error_of(replaced(small, "  - name: settle\n", "  - name: settle\n    time_step: 1.5 rayleigh\n"))
+                .find("expected a fraction of the Rayleigh step in (0, 1]"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(small, "  - name: settle\n", "  - name: fill\n"))
+                .find("s.yaml:31: key 'stages.1.name': a second stage named 'fill'"),
+            std::string::npos)
+      << error_of(replaced(small, "  - name: settle\n", "  - name: fill\n"));
   // a value set on the command line is named as such; a parameter at the line that uses it
   EXPECT_NE(error_of(small, {parse_override("factories.pour.count=12.5")})
                 .find("command line (--set): key 'factories.pour.count': expected a whole number"),
@@ -496,6 +508,50 @@ TEST_F(ScenarioRun, ContinuesBitForBitFromACheckpoint) {
   const std::string bytes = io::read_text_file(path("cut/checkpoint.bin"));
   std::ofstream(path("cut/checkpoint.bin"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   EXPECT_THROW(resume_scenario(cut), InputError);
+}
+
+TEST_F(ScenarioRun, AStageRunsWithItsOwnTimeStep) {
+  // The settling at a quarter of the fill's step (as compression.yaml presses at 0.05 of the
+  // Rayleigh step after a fill at 0.2): the fill is the same run as without it, the settling
+  // takes 4 times the steps per second simulated, and a run stopped in the settling goes on
+  // at its step, not the scenario's.
+  const std::vector<Override> n{parse_override("parameters.count=150")};
+  const Scenario plain = read(small, n);
+  const Scenario sc =
+      read(replaced(small, "  - name: settle\n", "  - name: settle\n    time_step: 0.05 rayleigh\n"), n);
+  ASSERT_TRUE(sc.stages[1].dt.has_value());
+  EXPECT_NEAR(*sc.stages[1].dt, 0.05 * sc.rayleigh_step, 1e-18);
+  EXPECT_NEAR(sc.settings.dt, 0.2 * sc.rayleigh_step, 1e-18);
+
+  RunOptions whole;
+  whole.out_dir = path("whole");
+  whole.progress = false;
+  const RunReport a = run_scenario(sc, whole);
+  ASSERT_FALSE(a.interrupted);
+  RunOptions same_step = whole;
+  same_step.out_dir = path("plain");
+  const RunReport p = run_scenario(plain, same_step);
+  ASSERT_EQ(a.stages.size(), 2u);
+  EXPECT_EQ(a.stages[0].steps, p.stages[0].steps);
+  EXPECT_EQ(a.stages[0].values, p.stages[0].values);
+  for (const auto& [report, dt] : {std::pair{&a, *sc.stages[1].dt}, std::pair{&p, sc.settings.dt}}) {
+    const StageReport& settle = report->stages[1];
+    EXPECT_NEAR(static_cast<double>(settle.steps), (settle.end - settle.start) / dt, 1.0);
+  }
+  std::ifstream in(path("whole/summary.json"));
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_DOUBLE_EQ(j["stages"][0]["dt_s"].get<double>(), sc.settings.dt);
+  EXPECT_DOUBLE_EQ(j["stages"][1]["dt_s"].get<double>(), *sc.stages[1].dt);
+  EXPECT_DOUBLE_EQ(j["dt_s"].get<double>(), sc.settings.dt);
+
+  RunOptions cut = whole;
+  cut.out_dir = path("cut");
+  cut.interrupt_at = 0.5 * (a.stages[1].start + a.stages[1].end);
+  ASSERT_TRUE(run_scenario(sc, cut).interrupted);
+  cut.interrupt_at = std::numeric_limits<double>::infinity();
+  const RunReport b = resume_scenario(cut);
+  EXPECT_EQ(b.steps, a.steps);
+  EXPECT_EQ(io::read_text_file(path("whole/timeseries.csv")), io::read_text_file(path("cut/timeseries.csv")));
 }
 
 }  // namespace

@@ -97,6 +97,10 @@ class Simulation {
   double time() const { return time_; }  ///< [s]
   std::uint64_t steps() const { return steps_; }
   const SimulationSettings& settings() const { return settings_; }
+  /// Sets the time step from the next step on [s]. Nothing else depends on it: the
+  /// integrators take it per step, and the tangential and rolling springs grow by the
+  /// displacement of each step, so a stage may run with its own step (scenario stages).
+  void set_time_step(double dt);
   /// Largest overlap over the radius of the smaller sphere in the last step [-].
   double max_overlap_ratio() const { return max_overlap_ratio_; }
   /// Largest max_overlap_ratio() of any step since the last reset [-]: a diagnostic, not part

@@ -53,6 +53,9 @@ struct SinkSpec {
 struct StageSpec {
   std::string name;
   bool enabled = true;  ///< false: skipped (a scenario's optional step, "enabled: ${strike}")
+  /// Its own time step [s] ("time_step: 0.05 rayleigh" in the stage); none: the simulation's.
+  std::optional<double> dt;
+  double time_step_fraction = 0.0;                      ///< of the Rayleigh step, if its own step was given so [-]
   std::vector<std::pair<std::size_t, bool>> factories;  ///< factory index, enabled
   std::vector<std::pair<std::size_t, bool>> sinks;      ///< sink index, enabled
   std::vector<std::pair<std::size_t, bool>> parts;      ///< part index, enabled
