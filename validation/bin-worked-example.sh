@@ -21,6 +21,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bushel="${BUSHEL:-$root/build/release/bin/bushel}"
+source "$root/validation/resume.sh"
 out="${1:-$root/runs/bin-example}"
 drop="${DROP:-163.2cm}"
 mkdir -p "$out"
@@ -36,20 +37,10 @@ fi
 
 # simulate NAME SCENARIO OVERRIDES...: run (or resume, or keep) $out/NAME.
 simulate() {
-  local name="$1" scenario="$2" dir="$out/$1"; shift 2
-  if grep -qs '"interrupted": false' "$dir/summary.json"; then
-    echo "== $name: finished before, kept ($dir)"
-    return
-  fi
-  if [ -f "$dir/checkpoint.bin" ]; then
-    echo "== $name: continuing from its checkpoint"
-    "$bushel" run --restart "$dir"
-    return
-  fi
-  local sets=() p
+  local name="$1" scenario="$2" sets=() p
+  shift 2
   for p in "$@"; do sets+=(--set "parameters.$p"); done
-  echo "== $name: bushel run scenarios/$scenario --out $dir ${sets[*]}"
-  "$bushel" run "$root/scenarios/$scenario" --out "$dir" "${sets[@]}"
+  run_or_resume "== $name" "$out/$name" "$root/scenarios/$scenario" ${sets[@]+"${sets[@]}"}
 }
 
 simulate drop test-weight.yaml "drop=$drop" ${drop_sets[@]+"${drop_sets[@]}"}

@@ -19,6 +19,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bushel="${BUSHEL:-$root/build/release/bin/bushel}"
+source "$root/validation/resume.sh"
 out="${1:-$root/runs/calibration}"
 target="${TARGET:-826.1}" jobs="${JOBS:-2}" alpha="${ALPHA:-0.1}" min_overflow="${MIN_OVERFLOW:-0.001}"
 scenario="$root/scenarios/calibration-cup.yaml"
@@ -91,8 +92,8 @@ import json; [print(f'{k}={v:.6g}') for k, v in json.load(open('$out/optimum.jso
 echo "== 4. validation at the optimum (seeds 1 and 2)"
 for seed in 1 2; do
   dir="$out/validate/seed-$seed"
-  grep -qs '"interrupted": false' "$dir/summary.json" || "$bushel" run "$scenario" --out "$dir" --quiet "${sets[@]}" \
-    "${fixed[@]}" "${optimum[@]}" --set "parameters.seed=$seed" > /dev/null
+  run_or_resume "seed $seed" "$dir" "$scenario" --quiet "${sets[@]}" "${fixed[@]}" "${optimum[@]}" \
+    --set "parameters.seed=$seed" > /dev/null
 done
 
 /usr/bin/python3 - "$out" "$target" "${kept[*]}" "${fixed[*]}" "$min_overflow" <<'EOF' | tee "$out/calibration.md"

@@ -15,6 +15,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 bushel="${BUSHEL:-$root/build/release/bin/bushel}"
 runs="$root/runs/validation"
 mkdir -p "$runs" "$root/validation/results"
+source "$root/validation/resume.sh"
 
 # case -> parameter overrides (wheat.md: single-sphere fr_ww / fs_ww / e_ww per pair)
 declare -A sets=(
@@ -65,21 +66,10 @@ for c in "${cases[@]}"; do
   dirs+=("runs/validation/cup-$c")  # as the report shows them, from the root
   [ -n "${sets[$c]:-}" ] || { echo "unknown case '$c' (known: ${!sets[*]})" >&2; exit 2; }
   dir="$runs/cup-$c"
+  args=(--set parameters.frame_interval=1s)
+  for s in ${sets[$c]}; do args+=(--set "parameters.$s"); done
   rc=0
-  if [ -f "$dir/summary.json" ] && grep -q '"interrupted": false' "$dir/summary.json"; then
-    echo "$c: finished before"
-    continue
-  fi
-  if [ -f "$dir/checkpoint.bin" ]; then
-    echo "$c: continuing from its checkpoint"
-    "$bushel" run --restart "$dir" --checkpoint-every 5 || rc=$?
-  else
-    args=()
-    for s in ${sets[$c]}; do args+=(--set "parameters.$s"); done
-    echo "$c: starting"
-    "$bushel" run "$root/scenarios/calibration-cup.yaml" --out "$dir" --checkpoint-every 5 \
-      --set parameters.frame_interval=1s "${args[@]}" || rc=$?
-  fi
+  run_or_resume "$c" "$dir" "$root/scenarios/calibration-cup.yaml" "${args[@]}" || rc=$?
   if [ "${rc:-0}" -ne 0 ]; then
     echo "$c: stopped (exit ${rc}); run the script again to continue" >&2
     table > "$root/validation/results/cup.md"
