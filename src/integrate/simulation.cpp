@@ -533,6 +533,48 @@ void Simulation::set_part_enabled(std::size_t i, bool enabled) {
   parts_changed_ = true;  // the candidates are found again before the next contacts
 }
 
+// The members save_state writes after the particles and the neighbour list, in file order:
+// one list for writing and reading (Self is Simulation or const Simulation).
+template <class Self, class F>
+void Simulation::each_saved_member(Self& self, F&& f) {
+  static_assert(std::is_same_v<std::size_t, std::uint64_t>, "counts are stored as 64-bit");
+  f(self.pair_force_);
+  f(self.pair_torque_j_);
+  f(self.pair_cdt_j_);
+  f(self.pair_active_);
+  f(self.element_force_);
+  f(self.element_torque_);
+  f(self.element_cdt_);
+  f(self.second_force_);
+  f(self.second_torque_);
+  f(self.second_cdt_);
+  f(self.second_direct_);
+  f(self.chunk_start_);
+  f(self.part_start_);
+  f(self.part_of_candidate_);
+  f(self.sphere_of_candidate_);
+  f(self.candidate_sphere_id_);
+  f(self.candidate_face_start_);
+  f(self.candidate_faces_);
+  f(self.candidate_face_distance_);
+  f(self.element_moved2_);
+  f(self.part_history_);
+  f(self.part_reaction_);
+  f(self.candidate_touches_);
+  f(self.part_partial_);
+  f(self.forces_valid_);
+  f(self.rebuild_due_);
+  f(self.parts_changed_);
+  f(self.direct_team_);
+  f(self.time_);
+  f(self.steps_);
+  f(self.max_overlap_ratio_);
+  f(self.forces_parts_);
+  f(self.active_build_);
+  f(self.direct_build_);
+  f(self.contacts_);
+}
+
 void Simulation::save_state(io::BinaryWriter& out) const {
   out.put(static_cast<std::uint64_t>(parts_.size()));
   for (std::size_t w = 0; w < parts_.size(); ++w) {
@@ -551,41 +593,7 @@ void Simulation::save_state(io::BinaryWriter& out) const {
   }
   particles_.save(out);
   neighbors_.save(out);
-  out.put(pair_force_);
-  out.put(pair_torque_j_);
-  out.put(pair_cdt_j_);
-  out.put(pair_active_);
-  out.put(element_force_);
-  out.put(element_torque_);
-  out.put(element_cdt_);
-  out.put(second_force_);
-  out.put(second_torque_);
-  out.put(second_cdt_);
-  out.put(second_direct_);
-  out.put(chunk_start_);
-  out.put(part_start_);
-  out.put(part_of_candidate_);
-  out.put(sphere_of_candidate_);
-  out.put(candidate_sphere_id_);
-  out.put(candidate_face_start_);
-  out.put(candidate_faces_);
-  out.put(candidate_face_distance_);
-  out.put(element_moved2_);
-  out.put(part_history_);
-  out.put(part_reaction_);
-  out.put(candidate_touches_);
-  out.put(part_partial_);
-  out.put(forces_valid_);
-  out.put(rebuild_due_);
-  out.put(parts_changed_);
-  out.put(direct_team_);
-  out.put(time_);
-  out.put(steps_);
-  out.put(max_overlap_ratio_);
-  out.put(static_cast<std::uint64_t>(forces_parts_));
-  out.put(static_cast<std::uint64_t>(active_build_));
-  out.put(static_cast<std::uint64_t>(direct_build_));
-  out.put(static_cast<std::uint64_t>(contacts_));
+  each_saved_member(*this, [&](const auto& m) { out.put(m); });
 }
 
 void Simulation::load_state(io::BinaryReader& in) {
@@ -614,41 +622,7 @@ void Simulation::load_state(io::BinaryReader& in) {
   prepare();
   particles_.sphere_position = placed;
   neighbors_.load(in);
-  in.get(pair_force_);
-  in.get(pair_torque_j_);
-  in.get(pair_cdt_j_);
-  in.get(pair_active_);
-  in.get(element_force_);
-  in.get(element_torque_);
-  in.get(element_cdt_);
-  in.get(second_force_);
-  in.get(second_torque_);
-  in.get(second_cdt_);
-  in.get(second_direct_);
-  in.get(chunk_start_);
-  in.get(part_start_);
-  in.get(part_of_candidate_);
-  in.get(sphere_of_candidate_);
-  in.get(candidate_sphere_id_);
-  in.get(candidate_face_start_);
-  in.get(candidate_faces_);
-  in.get(candidate_face_distance_);
-  in.get(element_moved2_);
-  in.get(part_history_);
-  in.get(part_reaction_);
-  in.get(candidate_touches_);
-  in.get(part_partial_);
-  in.get(forces_valid_);
-  in.get(rebuild_due_);
-  in.get(parts_changed_);
-  in.get(direct_team_);
-  in.get(time_);
-  in.get(steps_);
-  in.get(max_overlap_ratio_);
-  forces_parts_ = static_cast<std::size_t>(in.get<std::uint64_t>());
-  active_build_ = static_cast<std::size_t>(in.get<std::uint64_t>());
-  direct_build_ = static_cast<std::size_t>(in.get<std::uint64_t>());
-  contacts_ = static_cast<std::size_t>(in.get<std::uint64_t>());
+  each_saved_member(*this, [&](auto& m) { in.get(m); });
 }
 
 void Simulation::remove_bodies(std::span<const std::size_t> bodies) {

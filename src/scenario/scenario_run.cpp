@@ -265,6 +265,30 @@ struct Position {
   std::vector<std::pair<std::string, double>> deep_overlaps;  // stages whose peak passed the warning's
 };
 
+// The members of a Position, then of a Sink, that a checkpoint holds, in file order: one list
+// for writing and reading (P is Position or const Position; the rest of the position has
+// its own format).
+template <class P, class F>
+requires std::is_same_v<std::remove_const_t<P>, Position>
+void each_checkpointed(P& p, F&& f) {
+  f(p.stage);
+  f(p.stage_started);
+  f(p.t0);
+  f(p.steps0);
+  f(p.history.time);
+  f(p.history.value);
+  f(p.next_row);
+  f(p.next_frame);
+  f(p.particle_steps);
+}
+template <class K, class F>
+requires std::is_same_v<std::remove_const_t<K>, Sink>
+void each_checkpointed(K& k, F&& f) {
+  f(k.enabled);
+  f(k.count);
+  f(k.mass);
+}
+
 // physics.md section 3: warn when the largest overlap exceeds a few percent of the radius.
 // Deeper than this the contacts are too soft for the impacts or loads of the stage, and what
 // it measures (a density under load above all) includes kernels interpenetrating.
@@ -381,15 +405,7 @@ class Runner {
     for (const auto& ov : sc_.document.overrides) out.put(ov.path), out.put(ov.value);
     out.put(static_cast<std::uint64_t>(sc_.document.parameters.size()));
     for (const auto& [k, v] : sc_.document.parameters) out.put(k), out.put(v);
-    out.put(pos_.stage);
-    out.put(pos_.stage_started);
-    out.put(pos_.t0);
-    out.put(pos_.steps0);
-    out.put(pos_.history.time);
-    out.put(pos_.history.value);
-    out.put(pos_.next_row);
-    out.put(pos_.next_frame);
-    out.put(pos_.particle_steps);
+    each_checkpointed(pos_, [&](const auto& m) { out.put(m); });
     out.put(wall());
     out.put(pos_.series_bytes);
     out.put(static_cast<std::uint64_t>(pos_.done.size()));
@@ -398,11 +414,7 @@ class Runner {
     for (const auto& w : pos_.warnings) out.put(w);
     out.put(st_.factory_on);
     for (const auto& f : st_.factories) f.save(out);
-    for (const Sink* k : sinks_and_lost()) {
-      out.put(k->enabled);
-      out.put(k->count);
-      out.put(k->mass);
-    }
+    for (const Sink* k : sinks_and_lost()) each_checkpointed(*k, [&](const auto& m) { out.put(m); });
     for (const auto& f : st_.flows) f.save(out);
     if (frames_) frames_->save(out);
     st_.sim.save_state(out);
@@ -417,15 +429,7 @@ class Runner {
 
   void load(io::BinaryReader& in) {
     // (the header, up to the parameters, was read by resume_scenario)
-    in.get(pos_.stage);
-    in.get(pos_.stage_started);
-    in.get(pos_.t0);
-    in.get(pos_.steps0);
-    in.get(pos_.history.time);
-    in.get(pos_.history.value);
-    in.get(pos_.next_row);
-    in.get(pos_.next_frame);
-    in.get(pos_.particle_steps);
+    each_checkpointed(pos_, [&](auto& m) { in.get(m); });
     in.get(pos_.wall_before);
     in.get(pos_.series_bytes);
     const auto n_done = in.get<std::uint64_t>();
@@ -437,11 +441,7 @@ class Runner {
       throw InputError("the checkpoint does not match its scenario (a damaged file?)");
     }
     for (auto& f : st_.factories) f.load(in);
-    for (Sink* k : sinks_and_lost()) {
-      in.get(k->enabled);
-      in.get(k->count);
-      in.get(k->mass);
-    }
+    for (Sink* k : sinks_and_lost()) each_checkpointed(*k, [&](auto& m) { in.get(m); });
     for (auto& f : st_.flows) f.load(in);
     if (frames_) frames_->load(in);
     st_.sim.load_state(in);

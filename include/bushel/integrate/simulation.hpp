@@ -130,6 +130,8 @@ class Simulation {
   void compute_forces();
   void sum_part_reactions();
   void kick(double dt);
+  template <class Self, class F>
+  static void each_saved_member(Self& self, F&& f);
   void drift(double dt);
 
   SimulationSettings settings_;
