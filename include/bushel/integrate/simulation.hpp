@@ -130,9 +130,10 @@ class Simulation {
   void compute_forces();
   void sum_part_reactions();
   void kick(double dt);
+  void drift(double dt);
+  /// Calls f on each member that save_state writes after the neighbour list, in file order.
   template <class Self, class F>
   static void each_saved_member(Self& self, F&& f);
-  void drift(double dt);
 
   SimulationSettings settings_;
   RollingModel rolling_;
