@@ -294,6 +294,12 @@ void each_checkpointed(K& k, F&& f) {
 // it measures (a density under load above all) includes kernels interpenetrating.
 constexpr double overlap_warning_ratio = 0.05;
 
+// A stage that waits for the particles to come to rest (a kinetic_energy condition) should end
+// near equilibrium: about 1e-4 (wheat.md), and 0.001 to 0.02 in the calibration cups. Explicit
+// integration of strong damping (restitution 0.1 at 0.1 or 0.2 of the Rayleigh step) leaves
+// the packing jittering at 0.14 to 0.5 instead, and it compacts (docs/scenarios.md).
+constexpr double jitter_unbalanced_force = 0.1;
+
 // One warning for the stages whose deepest overlap passed overlap_warning_ratio.
 std::string overlap_warning(const std::vector<std::pair<std::string, double>>& stages) {
   const auto deepest =
@@ -600,6 +606,13 @@ class Runner {
           (stage.kinetic_energy || stage.factories_done || stage.servo_part || stage.reached || stage.stable)) {
         pos_.warnings.push_back(
             fmt::format("stage '{}' ended at its time limit before its condition was met", stage.name));
+      }
+      if (stage.kinetic_energy && sim.unbalanced_force_ratio() > jitter_unbalanced_force) {
+        pos_.warnings.push_back(fmt::format(
+            "stage '{}' ended with the packing not static (unbalanced force ratio {:.2g}, above {:g}): the particles "
+            "jitter, which compacts a packing. Strong damping needs a smaller time step (restitution 0.1: about 0.05 "
+            "of the Rayleigh step; docs/scenarios.md)",
+            stage.name, sim.unbalanced_force_ratio(), jitter_unbalanced_force));
       }
       if (pos_.peak_overlap > overlap_warning_ratio) pos_.deep_overlaps.emplace_back(stage.name, pos_.peak_overlap);
       pos_.peak_overlap = 0.0;

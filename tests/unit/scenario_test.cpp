@@ -554,5 +554,39 @@ TEST_F(ScenarioRun, AStageRunsWithItsOwnTimeStep) {
   EXPECT_EQ(io::read_text_file(path("whole/timeseries.csv")), io::read_text_file(path("cut/timeseries.csv")));
 }
 
+TEST_F(ScenarioRun, WarnsWhenAPackingThatShouldRestJitters) {
+  // Restitution 0.1 (strong damping) with sticky friction: at 0.2 of the Rayleigh step the
+  // settled cup jitters (unbalanced force about 0.3: explicit integration of the damping
+  // overshoots) and the run says so; at 0.05 it comes to rest (about 0.01), and so does the
+  // default restitution of 0.5 at 0.2.
+  const std::vector<Override> sticky{parse_override("contacts.default.restitution=0.1"),
+                                     parse_override("contacts.default.static_friction=0.486"),
+                                     parse_override("contacts.default.rolling_friction=0.05")};
+  auto settle_of = [&](const std::string& dir, std::vector<Override> overrides) {
+    RunOptions o;
+    o.out_dir = path(dir);
+    o.progress = false;
+    const RunReport r = run_scenario(read(small, overrides), o);
+    const auto& values = r.stages.at(1).values;
+    const auto u =
+        std::find_if(values.begin(), values.end(), [](const auto& v) { return v.first == "unbalanced_force"; });
+    const bool warned = std::any_of(r.warnings.begin(), r.warnings.end(), [](const std::string& w) {
+      return w.find("stage 'settle' ended with the packing not static") != std::string::npos;
+    });
+    return std::pair{u->second, warned};
+  };
+  const auto [jitter, warned] = settle_of("coarse", sticky);
+  EXPECT_GT(jitter, 0.1);
+  EXPECT_TRUE(warned);
+  auto fine = sticky;
+  fine.push_back(parse_override("simulation.time_step=0.05 rayleigh"));
+  const auto [rest, quiet] = settle_of("fine", fine);
+  EXPECT_LT(rest, 0.05);
+  EXPECT_FALSE(quiet);
+  const auto [usual, usual_warned] = settle_of("usual", {});
+  EXPECT_LT(usual, 0.1);
+  EXPECT_FALSE(usual_warned);
+}
+
 }  // namespace
 }  // namespace bushel
