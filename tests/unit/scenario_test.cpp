@@ -179,6 +179,17 @@ class ScenarioRun : public TempDirTest {
     o.progress = false;
     return run_scenario(sc, o);
   }
+  // Runs the scenario into path(dir), stopped halfway through the second stage of the whole
+  // run `whole` (as Ctrl-C would) and continued from its checkpoint.
+  RunReport stopped_in_the_settling_and_continued(const Scenario& sc, const std::string& dir, const RunReport& whole) {
+    RunOptions o;
+    o.out_dir = path(dir);
+    o.progress = false;
+    o.interrupt_at = 0.5 * (whole.stages[1].start + whole.stages[1].end);
+    EXPECT_TRUE(run_scenario(sc, o).interrupted);
+    o.interrupt_at = std::numeric_limits<double>::infinity();
+    return resume_scenario(o);
+  }
 };
 
 TEST_F(ScenarioRun, ReadsAFactorySurfaceFromAnStlNextToTheScenario) {
@@ -458,12 +469,7 @@ TEST_F(ScenarioRun, WarnsOnceOfDeepOverlapsAcrossACheckpoint) {
   EXPECT_NE(overlaps[0].find("'settle' ("), std::string::npos) << overlaps[0];
   // Stopped in the settling and continued: the stage's deepest overlap before the checkpoint
   // still counts, so the warnings are the same, as are the unbalanced force ratios.
-  RunOptions cut = whole;
-  cut.out_dir = path("cut");
-  cut.interrupt_at = 0.5 * (a.stages[1].start + a.stages[1].end);
-  ASSERT_TRUE(run_scenario(sc, cut).interrupted);
-  cut.interrupt_at = std::numeric_limits<double>::infinity();
-  const RunReport b = resume_scenario(cut);
+  const RunReport b = stopped_in_the_settling_and_continued(sc, "cut", a);
   EXPECT_EQ(b.warnings, a.warnings);
   EXPECT_EQ(io::read_text_file(path("whole/timeseries.csv")), io::read_text_file(path("cut/timeseries.csv")));
 }
@@ -544,12 +550,7 @@ TEST_F(ScenarioRun, AStageRunsWithItsOwnTimeStep) {
   EXPECT_DOUBLE_EQ(j["stages"][1]["dt_s"].get<double>(), *sc.stages[1].dt);
   EXPECT_DOUBLE_EQ(j["dt_s"].get<double>(), sc.settings.dt);
 
-  RunOptions cut = whole;
-  cut.out_dir = path("cut");
-  cut.interrupt_at = 0.5 * (a.stages[1].start + a.stages[1].end);
-  ASSERT_TRUE(run_scenario(sc, cut).interrupted);
-  cut.interrupt_at = std::numeric_limits<double>::infinity();
-  const RunReport b = resume_scenario(cut);
+  const RunReport b = stopped_in_the_settling_and_continued(sc, "cut", a);
   EXPECT_EQ(b.steps, a.steps);
   EXPECT_EQ(io::read_text_file(path("whole/timeseries.csv")), io::read_text_file(path("cut/timeseries.csv")));
 }
