@@ -572,7 +572,7 @@ TEST_F(ScenarioRun, WarnsWhenAPackingThatShouldRestJitters) {
     const auto u =
         std::find_if(values.begin(), values.end(), [](const auto& v) { return v.first == "unbalanced_force"; });
     const bool warned = std::any_of(r.warnings.begin(), r.warnings.end(), [](const std::string& w) {
-      return w.find("stage 'settle' ended with the packing not static") != std::string::npos;
+      return w.find("stage 'settle' ended with the packing not at rest") != std::string::npos;
     });
     return std::pair{u->second, warned};
   };
