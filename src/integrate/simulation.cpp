@@ -397,7 +397,7 @@ namespace {}  // namespace
 
 Simulation::Simulation(SimulationSettings settings)
     : settings_(std::move(settings)), rolling_(rolling_model(settings_.rolling)), neighbors_(1.0, 3) {
-  if (!(settings_.dt > 0.0)) throw InputError("expected a positive time step").with_key("dt");
+  set_time_step(settings_.dt);  // (its check)
   if (settings_.skin < 0.0) throw InputError("expected a non-negative skin").with_key("skin");
 }
 

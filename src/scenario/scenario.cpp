@@ -223,9 +223,10 @@ std::pair<Vec3, Vec3> part_bounds(const Part& part) {
   return {lo, hi};
 }
 
-// A time step, "20 us" or "0.2 rayleigh" (of the smallest element's Rayleigh step): [s].
-// `fraction` is set to the Rayleigh fraction if given so, else 0.
-double read_time_step(const ScenarioNode& ts, double rayleigh_step, double& fraction) {
+// `parent`'s time_step, "20 us" or "0.2 rayleigh" (of the smallest element's Rayleigh step):
+// [s]. `fraction` is set to the Rayleigh fraction if given so, else 0.
+double read_time_step(const ScenarioNode& parent, double rayleigh_step, double& fraction) {
+  const ScenarioNode ts = parent.at("time_step");
   const std::string text = ts.text();
   const std::string suffix = "rayleigh";
   if (text.size() > suffix.size() && text.ends_with(suffix)) {
@@ -240,11 +241,7 @@ double read_time_step(const ScenarioNode& ts, double rayleigh_step, double& frac
     return fraction * rayleigh_step;
   }
   fraction = 0.0;
-  const double dt = ts.quantity(dim::time);
-  if (!(dt > 0.0) || !std::isfinite(dt)) {
-    throw ts.error("expected a positive time, got '" + text +
-                   "' (e.g. '2 us', or '0.2 rayleigh' of the Rayleigh step)");
-  }
+  const double dt = parent.positive("time_step", dim::time);
   if (dt > rayleigh_step) {
     throw ts.error(fmt::format(
         "a time step of {:.4g} us is above the Rayleigh step of the smallest element ({:.4g} us): the contacts "
@@ -442,7 +439,7 @@ Scenario read_scenario(ScenarioDocument document) {
         std::min(sc.rayleigh_step, rayleigh_time_step(t.shape.min_sphere_radius(), t.material.density,
                                                       t.material.shear_modulus, t.material.poisson_ratio));
   }
-  st.dt = read_time_step(sim.at("time_step"), sc.rayleigh_step, sc.time_step_fraction);
+  st.dt = read_time_step(sim, sc.rayleigh_step, sc.time_step_fraction);
 
   // --- contacts -------------------------------------------------------------------------------
   if (const auto c = root.find("contacts")) {
@@ -637,7 +634,7 @@ Scenario read_scenario(ScenarioDocument document) {
                                "name must be unique");
     }
     stage.enabled = s.boolean_or("enabled", true);
-    if (s.has("time_step")) stage.dt = read_time_step(s.at("time_step"), sc.rayleigh_step, stage.time_step_fraction);
+    if (s.has("time_step")) stage.dt = read_time_step(s, sc.rayleigh_step, stage.time_step_fraction);
     for (const auto& [key, on] : {std::pair<const char*, bool>{"enable", true}, {"disable", false}}) {
       if (const auto list = s.find(key)) {
         // factories, sinks and parts by name (one list of all, so a typo is matched against all)

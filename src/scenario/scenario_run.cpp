@@ -609,13 +609,14 @@ class Runner {
         pos_.warnings.push_back(
             fmt::format("stage '{}' ended at its time limit before its condition was met", stage.name));
       }
-      if (stage.kinetic_energy && sim.unbalanced_force_ratio() > jitter_unbalanced_force) {
+      const double unbalanced = sim.unbalanced_force_ratio();
+      if (stage.kinetic_energy && unbalanced > jitter_unbalanced_force) {
         pos_.warnings.push_back(fmt::format(
             "stage '{}' ended with the packing not at rest (unbalanced force ratio {:.2g}, above {:g}): either it "
             "ended before the packing settled (a longer min_time), or the particles jitter, which compacts a "
             "packing: strong damping needs a smaller time step (restitution 0.1: about 0.05 of the Rayleigh step; "
             "docs/scenarios.md)",
-            stage.name, sim.unbalanced_force_ratio(), jitter_unbalanced_force));
+            stage.name, unbalanced, jitter_unbalanced_force));
       }
       if (pos_.peak_overlap > overlap_warning_ratio) pos_.deep_overlaps.emplace_back(stage.name, pos_.peak_overlap);
       pos_.peak_overlap = 0.0;
@@ -671,8 +672,8 @@ class Runner {
           const auto s = std::find_if(report.stages.begin(), report.stages.end(),
                                       [&](const StageReport& x) { return x.name == stage; });
           if (s == report.stages.end()) {
-            skipped = std::any_of(sc_.stages.begin(), sc_.stages.end(),
-                                  [&](const StageSpec& x) { return x.name == stage && !x.enabled; });
+            const StageSpec* spec = stage_spec(stage);
+            skipped = spec != nullptr && !spec->enabled;
             throw InputError("stage '" + stage + "' has not run");
           }
           if (value == "start") return s->start;
@@ -695,11 +696,17 @@ class Runner {
     return j;
   }
 
-  // The time step a stage ran with [s] (stage names are unique).
-  double stage_dt(const std::string& name) const {
+  // The stage of this name (names are unique), or null.
+  const StageSpec* stage_spec(const std::string& name) const {
     const auto s =
         std::find_if(sc_.stages.begin(), sc_.stages.end(), [&](const StageSpec& x) { return x.name == name; });
-    return s != sc_.stages.end() && s->dt ? *s->dt : sc_.settings.dt;
+    return s != sc_.stages.end() ? &*s : nullptr;
+  }
+
+  // The time step a stage ran with [s].
+  double stage_dt(const std::string& name) const {
+    const StageSpec* s = stage_spec(name);
+    return s != nullptr && s->dt ? *s->dt : sc_.settings.dt;
   }
 
   void write_summary(const RunReport& report) {
