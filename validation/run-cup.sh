@@ -18,16 +18,14 @@ mkdir -p "$runs" "$root/validation/results"
 source "$root/validation/resume.sh"
 
 # case -> overrides: parameters by name (wheat.md: single-sphere fr_ww / fs_ww / e_ww per
-# pair), other keys by path. Restitution 0.1 needs 0.05 of the Rayleigh step: at 0.2 the
-# packing jitters and compacts (medium-1s gave 851.7 kg/m3 with an unbalanced force of 0.51
-# at rest; docs/scenarios.md, time step).
+# pair), other keys by path (simulation.time_step=5%rayleigh, say).
 declare -A sets=(
   [large-5s]="fraction=large model=5s"
   [medium-5s]="fraction=medium model=5s"
   [small-5s]="fraction=small model=5s"
   [large-1s]="fraction=large model=1s fr_ww=0.05 fs_ww=0.172 e_ww=0.5"
-  [medium-1s]="fraction=medium model=1s fr_ww=0.05 fs_ww=0.486 e_ww=0.1 simulation.time_step=5%rayleigh"
-  [small-1s]="fraction=small model=1s fr_ww=0.10 fs_ww=0.500 e_ww=0.1 simulation.time_step=5%rayleigh"
+  [medium-1s]="fraction=medium model=1s fr_ww=0.05 fs_ww=0.486 e_ww=0.1"
+  [small-1s]="fraction=small model=1s fr_ww=0.10 fs_ww=0.500 e_ww=0.1"
 )
 all=(large-5s medium-5s small-5s large-1s medium-1s small-1s)
 cases=("$@")

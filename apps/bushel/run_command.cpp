@@ -40,6 +40,10 @@ std::string time_step_text(double dt, double fraction, double rayleigh_step) {
 void describe(const Scenario& sc) {
   fmt::print("{}: valid\n", sc.document.file);
   fmt::print("  time step      {}\n", time_step_text(sc.settings.dt, sc.time_step_fraction, sc.rayleigh_step));
+  const double limit = sc.settings.tangential_damping_limit;
+  fmt::print("  damping limit  {}\n", std::isfinite(limit)
+                                          ? fmt::format("tangential, {:g} of the sliding velocity per step", limit)
+                                          : std::string("off (the model's tangential damping)"));
   fmt::print("  particle types {}\n", sc.types.size());
   fmt::print("  parts          {}\n", sc.parts.size());
   fmt::print("  factories      {}\n", sc.factories.size());

@@ -9,6 +9,7 @@ namespace {
 struct LawInput {
   double nx, ny, nz, overlap, vx, vy, vz, r_star, m_star;
   double youngs_modulus, stiffness_ratio, root_stiffness_ratio, damping, static_friction;
+  double damping_limit;  // largest gamma_t [N s/m]
 };
 struct LawOutput {
   double fx, fy, fz, normal_force, normal_stiffness;
@@ -39,27 +40,31 @@ struct LawOutput {
   z = (z - along * nz) * keep + tz * dt;
 
   const double s_t = in.stiffness_ratio * s_n;
-  const double gamma_t = in.damping * in.root_stiffness_ratio * root_s_n_m;
+  const double gamma_model = in.damping * in.root_stiffness_ratio * root_s_n_m;
+  const double gamma_t = gamma_model < in.damping_limit ? gamma_model : in.damping_limit;
   double fx = -s_t * x - gamma_t * tx, fy = -s_t * y - gamma_t * ty, fz = -s_t * z - gamma_t * tz;
   const double limit = in.static_friction * f_n;
   const double f_len2 = fx * fx + fy * fy + fz * fz;
   const bool sliding = f_len2 > limit * limit;
   const double cut = sliding ? limit / std::sqrt(f_len2) : 1.0;
   fx *= cut, fy *= cut, fz *= cut;
-  // Sliding: the spring holds the Coulomb force.
+  // Sliding: the spring holds the Coulomb force alone (not the damping's share too, which it
+  // would give back as the contact point slows: header).
   const bool spring = sliding && s_t > 0.0;
   const double inverse_s_t = 1.0 / (s_t > 0.0 ? s_t : 1.0);  // one division for three
-  xi_x = spring ? -(fx + gamma_t * tx) * inverse_s_t : (sliding ? 0.0 : x);
-  xi_y = spring ? -(fy + gamma_t * ty) * inverse_s_t : (sliding ? 0.0 : y);
-  xi_z = spring ? -(fz + gamma_t * tz) * inverse_s_t : (sliding ? 0.0 : z);
+  xi_x = spring ? -fx * inverse_s_t : (sliding ? 0.0 : x);
+  xi_y = spring ? -fy * inverse_s_t : (sliding ? 0.0 : y);
+  xi_z = spring ? -fz * inverse_s_t : (sliding ? 0.0 : z);
   return {-f_n * nx + fx, -f_n * ny + fy, -f_n * nz + fz, f_n, s_n};
 }
 
-[[gnu::always_inline]] inline void solve_one(ContactBatch& b, int k, double dt) {
-  const LawOutput out = hertz_mindlin(
-      {b.nx[k], b.ny[k], b.nz[k], b.overlap[k], b.vx[k], b.vy[k], b.vz[k], b.r_star[k], b.m_star[k],
-       b.youngs_modulus[k], b.stiffness_ratio[k], b.root_stiffness_ratio[k], b.damping[k], b.static_friction[k]},
-      b.xi_x[k], b.xi_y[k], b.xi_z[k], dt);
+[[gnu::always_inline]] inline void solve_one(ContactBatch& b, int k, double dt, double damping_rate) {
+  // (a wall does not move: the sliding mass is the body's alone)
+  const LawOutput out =
+      hertz_mindlin({b.nx[k], b.ny[k], b.nz[k], b.overlap[k], b.vx[k], b.vy[k], b.vz[k], b.r_star[k], b.m_star[k],
+                     b.youngs_modulus[k], b.stiffness_ratio[k], b.root_stiffness_ratio[k], b.damping[k],
+                     b.static_friction[k], damping_rate / b.compliance[k]},
+                    b.xi_x[k], b.xi_y[k], b.xi_z[k], dt);
   b.fx[k] = out.fx, b.fy[k] = out.fy, b.fz[k] = out.fz;
   b.normal_force[k] = out.normal_force;
   b.normal_stiffness[k] = out.normal_stiffness;
@@ -71,7 +76,7 @@ struct LawOutput {
 // root. Uniform: the coefficients are lane 0's. The divider is what limits this loop, so it
 // divides as little as it can.
 template <bool centred, bool uniform>
-[[gnu::always_inline]] inline void solve_one(PairBatch& b, int k, double dt) {
+[[gnu::always_inline]] inline void solve_one(PairBatch& b, int k, double dt, double damping_rate) {
   const int c = uniform ? 0 : k;
   const double dx = b.dx[k], dy = b.dy[k], dz = b.dz[k], ri = b.ri[k], rj = b.rj[k];
   const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
@@ -91,9 +96,17 @@ template <bool centred, bool uniform>
   const double vz = b.viz[k] + (wix * aiy - wiy * aix) - b.vjz[k] - (wjx * ajy - wjy * ajx);
   const double r_star = ri * rj / (ri + rj);
   const double mi = b.mi[k], mj = b.mj[k];
+  const double mm = mi * mj, m_star = mm / (mi + mj);
+  // Sliding mass of the contact points, 1/m_t = 1/m_i + 1/m_j + a_i^2 J_i + a_j^2 J_j with J the
+  // largest inverse principal moment (exact for a lone sphere, whose arm is normal to every
+  // tangent; a bound for a clump). Two lone spheres (J = 5/2 / (m r^2), a <= r): m_t >= m*/3.5,
+  // which costs neither a division nor a load. gamma_t <= damping_rate m_t.
+  const double arm_i2 = aix * aix + aiy * aiy + aiz * aiz, arm_j2 = ajx * ajx + ajy * ajy + ajz * ajz;
+  const double limit = centred ? damping_rate * m_star * (1.0 / 3.5)
+                               : damping_rate * mm / ((mi + mj) + (arm_i2 * b.ji[k] + arm_j2 * b.jj[k]) * mm);
   const LawOutput out =
-      hertz_mindlin({nx, ny, nz, overlap, vx, vy, vz, r_star, mi * mj / (mi + mj), b.youngs_modulus[c],
-                     b.stiffness_ratio[c], b.root_stiffness_ratio[c], b.damping[c], b.static_friction[c]},
+      hertz_mindlin({nx, ny, nz, overlap, vx, vy, vz, r_star, m_star, b.youngs_modulus[c], b.stiffness_ratio[c],
+                     b.root_stiffness_ratio[c], b.damping[c], b.static_friction[c], limit},
                     b.xi_x[k], b.xi_y[k], b.xi_z[k], dt);
   const double fx = out.fx, fy = out.fy, fz = out.fz;
   b.nx[k] = nx, b.ny[k] = ny, b.nz[k] = nz;
@@ -121,26 +134,26 @@ template <bool centred, bool uniform>
 #define BUSHEL_VECTOR_CLONES
 #endif
 
-BUSHEL_VECTOR_CLONES void solve(ContactBatch& batch, double dt) {
+BUSHEL_VECTOR_CLONES void solve(ContactBatch& batch, double dt, double damping_rate) {
   const int n = batch.size;
 #pragma omp simd
-  for (int k = 0; k < n; ++k) solve_one(batch, k, dt);
+  for (int k = 0; k < n; ++k) solve_one(batch, k, dt, damping_rate);
 }
 
 namespace {
 template <bool centred, bool uniform>
-[[gnu::always_inline]] inline void solve_all(PairBatch& batch, double dt) {
+[[gnu::always_inline]] inline void solve_all(PairBatch& batch, double dt, double damping_rate) {
   const int n = batch.size;
 #pragma omp simd
-  for (int k = 0; k < n; ++k) solve_one<centred, uniform>(batch, k, dt);
+  for (int k = 0; k < n; ++k) solve_one<centred, uniform>(batch, k, dt, damping_rate);
 }
 }  // namespace
 
-BUSHEL_VECTOR_CLONES void solve(PairBatch& batch, double dt) {
+BUSHEL_VECTOR_CLONES void solve(PairBatch& batch, double dt, double damping_rate) {
   if (batch.centred) {
-    batch.uniform ? solve_all<true, true>(batch, dt) : solve_all<true, false>(batch, dt);
+    batch.uniform ? solve_all<true, true>(batch, dt, damping_rate) : solve_all<true, false>(batch, dt, damping_rate);
   } else {
-    batch.uniform ? solve_all<false, true>(batch, dt) : solve_all<false, false>(batch, dt);
+    batch.uniform ? solve_all<false, true>(batch, dt, damping_rate) : solve_all<false, false>(batch, dt, damping_rate);
   }
 }
 

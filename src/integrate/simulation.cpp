@@ -29,6 +29,8 @@ namespace {
 Vec3 load3(const double* h) { return {h[0], h[1], h[2]}; }
 void store3(double* h, const Vec3& v) { h[0] = v.x, h[1] = v.y, h[2] = v.z; }
 double min_moment(const Vec3& i) { return std::min({i.x, i.y, i.z}); }
+double max_component(const Vec3& i) { return std::max({i.x, i.y, i.z}); }
+
 // Equal principal moments (a sphere): L = I omega in any frame, so rotation needs no quaternion work.
 bool is_isotropic(const Vec3& i) { return i.x == i.y && i.y == i.z; }
 
@@ -61,7 +63,8 @@ struct PartLanes {
   LaneExtra& next() { return extra[static_cast<std::size_t>(batch.size)]; }
   // Adds the next contact; its extra fields must be filled already. The tangential
   // displacement is read from its history.
-  void push(const Vec3& n, double overlap, const Vec3& v_rel, double r_star, double m_star, const PairCoefficients& c) {
+  void push(const Vec3& n, double overlap, const Vec3& v_rel, double r_star, double m_star, double compliance,
+            const PairCoefficients& c) {
     ContactBatch& b = batch;
     const int k = b.size++;
     b.nx[k] = n.x, b.ny[k] = n.y, b.nz[k] = n.z;
@@ -69,6 +72,7 @@ struct PartLanes {
     b.vx[k] = v_rel.x, b.vy[k] = v_rel.y, b.vz[k] = v_rel.z;
     b.r_star[k] = r_star;
     b.m_star[k] = m_star;
+    b.compliance[k] = compliance;
     store_coefficients(b, k, c);
     const double* history = extra[static_cast<std::size_t>(k)].history;
     b.xi_x[k] = history[0], b.xi_y[k] = history[1], b.xi_z[k] = history[2];
@@ -93,6 +97,7 @@ struct PairLanes {
   }
 }
 [[gnu::noinline, gnu::cold]] void set_offsets(PairLanes& pl, std::span<const Vec3> x_el, std::span<const Vec3> x_b,
+                                              std::span<const Vec3> inverse_inertia,
                                               std::span<const std::uint32_t> owner,
                                               std::span<const std::uint32_t> sphere_count,
                                               std::span<const std::uint32_t> second) {
@@ -105,6 +110,7 @@ struct PairLanes {
     const Vec3 oj = sphere_count[bj] == 1 ? Vec3{} : x_el[j] - x_b[bj];
     b.oix[k] = oi.x, b.oiy[k] = oi.y, b.oiz[k] = oi.z;
     b.ojx[k] = oj.x, b.ojy[k] = oj.y, b.ojz[k] = oj.z;
+    b.ji[k] = max_component(inverse_inertia[bi]), b.jj[k] = max_component(inverse_inertia[bj]);
   }
 }
 
@@ -118,7 +124,7 @@ struct Workspace {
 // through the vectors, or through variables shared by an OpenMP region, the compiler would
 // reload every data pointer after it; from a private copy it keeps them in registers.
 struct ContactViews {
-  std::span<const Vec3> x_el, x_b, v_b, w_b, inertia;
+  std::span<const Vec3> x_el, x_b, v_b, w_b, inertia, inverse_inertia;
   std::span<const double> radius, mass;
   std::span<const std::uint32_t> owner, sphere_count, species, first, second;
   std::span<const std::uint32_t> part_start, sphere_of_candidate, part_of_candidate, candidate_face_start,
@@ -139,6 +145,7 @@ struct ContactViews {
   std::span<const PartCache> part_cache;
   int h;
   double dt;
+  double damping_rate;  // largest tangential damping over the contact's sliding mass [1/s] (contact_batch.hpp)
 };
 
 struct ChunkResult {
@@ -153,11 +160,12 @@ template <class Rolling>
 ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint32_t e1, std::size_t p0, std::size_t p1,
                           Workspace& work) {
   const ContactViews own = views;
-  const auto [x_el, x_b, v_b, w_b, inertia, radius, mass, owner, sphere_count, species, first, second, part_start,
-              sphere_of_candidate, part_of_candidate, candidate_face_start, candidate_faces, candidate_face_distance,
-              element_moved2, history, part_history, candidate_touches, active, pair_force, pair_torque_j,
-              element_force, element_torque, part_reaction, pair_cdt_j, element_cdt, second_direct, second_force,
-              second_torque, second_cdt, coefficient_data, n_species, n_types, parts, part_cache, h, dt] = own;
+  const auto [x_el, x_b, v_b, w_b, inertia, inverse_inertia, radius, mass, owner, sphere_count, species, first, second,
+              part_start, sphere_of_candidate, part_of_candidate, candidate_face_start, candidate_faces,
+              candidate_face_distance, element_moved2, history, part_history, candidate_touches, active, pair_force,
+              pair_torque_j, element_force, element_torque, part_reaction, pair_cdt_j, element_cdt, second_direct,
+              second_force, second_torque, second_cdt, coefficient_data, n_species, n_types, parts, part_cache, h, dt,
+              damping_rate] = own;
   auto coefficients = [&](std::size_t a, std::size_t b) -> const PairCoefficients& {
     return coefficient_data[a * n_species + b];
   };
@@ -171,7 +179,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
   PairBatch& pb = pl.batch;
   double deepest = 0.0, deepest_radius = 1.0;  // overlap and radius of the largest ratio [m]
   auto finish_pairs = [&] {
-    solve(pb, dt);
+    solve(pb, dt, damping_rate);
     for (int k = 0; k < pb.size; ++k) {
       const auto kk = static_cast<std::size_t>(k);
       const std::uint32_t i = pl.element[kk], p = pl.pair[kk], j = second[p];
@@ -276,7 +284,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     pb.uniform = uniform;
     store_coefficients(pb, 0, coefficient_data[co0]);
     if (!uniform) set_coefficients(pl, coefficient_data);
-    if (!lone) set_offsets(pl, x_el, x_b, owner, sphere_count, second);
+    if (!lone) set_offsets(pl, x_el, x_b, inverse_inertia, owner, sphere_count, second);
     finish_pairs();
   }
   r.max_ratio = deepest / deepest_radius;
@@ -342,7 +350,8 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       e.arm_i_len = arm_len;
       e.inertia_r = min_moment(inertia[b]) + mass[b] * arm_len * arm_len;
       e.mu_r = co.rolling_friction;
-      lanes.push(normal, t.overlap, v_rel, radius[s], mass[b], co);
+      lanes.push(normal, t.overlap, v_rel, radius[s], mass[b],
+                 1.0 / mass[b] + arm_len * arm_len * max_component(inverse_inertia[b]), co);
       max_ratio = std::max(max_ratio, t.overlap / radius[s]);
     }
     for (int j = 0; j < max_part_touches; ++j) {  // contacts that ended start afresh
@@ -356,7 +365,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
   // candidate may have several contacts).
   auto finish_parts = [&] {
     ContactBatch& b = lanes.batch;
-    solve(b, dt);
+    solve(b, dt, damping_rate);
     for (int k = 0; k < b.size; ++k) {
       const LaneExtra& e = lanes.extra[static_cast<std::size_t>(k)];
       e.history[0] = b.xi_x[k], e.history[1] = b.xi_y[k], e.history[2] = b.xi_z[k];
@@ -399,6 +408,9 @@ Simulation::Simulation(SimulationSettings settings)
     : settings_(std::move(settings)), rolling_(rolling_model(settings_.rolling)), neighbors_(1.0, 3) {
   set_time_step(settings_.dt);  // (its check)
   if (settings_.skin < 0.0) throw InputError("expected a non-negative skin").with_key("skin");
+  if (!(settings_.tangential_damping_limit > 0.0)) {
+    throw InputError("expected a positive fraction, or infinity for none").with_key("tangential_damping_limit");
+  }
 }
 
 void Simulation::set_time_step(double dt) {
@@ -815,6 +827,7 @@ void Simulation::compute_forces(const Rolling&) {
                            ps.velocity,
                            ps.angular_velocity,
                            ps.inertia,
+                           ps.inverse_inertia,
                            ps.radius,
                            ps.mass,
                            ps.owner,
@@ -850,7 +863,8 @@ void Simulation::compute_forces(const Rolling&) {
                            parts_,
                            part_cache_,
                            neighbors_.history_size(),
-                           dt};
+                           dt,
+                           settings_.tangential_damping_limit / dt};
 
   // --- contacts, per chunk of elements: their pairs (as first element), then their parts ---
   double max_ratio = 0.0;

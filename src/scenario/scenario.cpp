@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -370,8 +371,8 @@ Scenario read_scenario(ScenarioDocument document) {
 
   // --- simulation ---------------------------------------------------------------------------
   const ScenarioNode sim = root.at("simulation");
-  sim.allow_only(
-      {"time_step", "gravity", "integrator", "rolling", "skin", "domain", "seed", "threads", "check_interval"});
+  sim.allow_only({"time_step", "gravity", "integrator", "rolling", "skin", "domain", "seed", "threads",
+                  "check_interval", "tangential_damping_limit"});
   SimulationSettings& st = sc.settings;
   st.gravity = sim.vector_or("gravity", dim::acceleration, {0, 0, -9.81});
   if (sim.has("integrator")) {
@@ -381,6 +382,16 @@ Scenario read_scenario(ScenarioDocument document) {
   }
   if (sim.has("rolling")) st.rolling = sim.at("rolling").choice({"cdt", "epsd", "none"});
   st.skin = sim.positive_or("skin", dim::length, 0.0);
+  if (const auto limit = sim.find("tangential_damping_limit")) {  // a fraction, or off
+    if (limit->text() == "off") {
+      st.tangential_damping_limit = std::numeric_limits<double>::infinity();
+    } else {
+      st.tangential_damping_limit = limit->number();
+      if (!(st.tangential_damping_limit > 0.0 && st.tangential_damping_limit <= 1.0)) {
+        throw limit->error("expected a fraction in (0, 1] of the relative tangential velocity per step, or off");
+      }
+    }
+  }
   const std::uint64_t seed = sim.has("seed") ? static_cast<std::uint64_t>(sim.at("seed").integer(0, 1L << 40)) : 1;
   sc.threads = sim.has("threads") ? static_cast<int>(sim.at("threads").integer(0, 1024)) : 0;
   sc.check_interval = sim.positive_or("check_interval", dim::time, 1e-3);

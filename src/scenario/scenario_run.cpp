@@ -614,8 +614,7 @@ class Runner {
         pos_.warnings.push_back(fmt::format(
             "stage '{}' ended with the packing not at rest (unbalanced force ratio {:.2g}, above {:g}): either it "
             "ended before the packing settled (a longer min_time), or the particles jitter, which compacts a "
-            "packing: strong damping needs a smaller time step (restitution 0.1: about 0.05 of the Rayleigh step; "
-            "docs/scenarios.md)",
+            "packing: a smaller time step, and simulation.tangential_damping_limit on (docs/scenarios.md)",
             stage.name, unbalanced, jitter_unbalanced_force));
       }
       if (pos_.peak_overlap > overlap_warning_ratio) pos_.deep_overlaps.emplace_back(stage.name, pos_.peak_overlap);

@@ -20,6 +20,7 @@ const Options quick{true};
 TEST(EngineVerification, Restitution) { expect_all_pass(restitution(quick)); }
 TEST(EngineVerification, HertzContactTime) { expect_all_pass(hertz_contact_time(quick)); }
 TEST(EngineVerification, EnergyConservation) { expect_all_pass(energy_conservation(quick)); }
+TEST(EngineVerification, ObliqueImpact) { expect_all_pass(oblique_impact(quick)); }
 TEST(EngineVerification, Incline) { expect_all_pass(incline(quick)); }
 TEST(EngineVerification, RollingFriction) { expect_all_pass(rolling_friction(quick)); }
 TEST(EngineVerification, ClumpFreeRotation) { expect_all_pass(clump_free_rotation(quick)); }

@@ -151,6 +151,16 @@ TEST(Scenario, ErrorsNameTheFileLineAndKey) {
   EXPECT_NE(error_of(replaced(small, "  - name: settle\n", "  - name: settle\n    time_step: 1.5 rayleigh\n"))
                 .find("expected a fraction of the Rayleigh step in (0, 1]"),
             std::string::npos);
+  const std::string limit = "  time_step: 0.2 rayleigh\n  tangential_damping_limit: 2\n";
+  EXPECT_NE(error_of(replaced(small, "  time_step: 0.2 rayleigh\n", limit))
+                .find("s.yaml:5: key 'simulation.tangential_damping_limit': expected a fraction in (0, 1]"),
+            std::string::npos)
+      << error_of(replaced(small, "  time_step: 0.2 rayleigh\n", limit));
+  EXPECT_EQ(read(replaced(small, "  time_step: 0.2 rayleigh\n",
+                          "  time_step: 0.2 rayleigh\n  tangential_damping_limit: off\n"))
+                .settings.tangential_damping_limit,
+            std::numeric_limits<double>::infinity());
+  EXPECT_EQ(read(small).settings.tangential_damping_limit, 0.5);
   EXPECT_NE(error_of(replaced(small, "  - name: settle\n", "  - name: fill\n"))
                 .find("s.yaml:31: key 'stages.1.name': a second stage named 'fill'"),
             std::string::npos)
@@ -227,8 +237,10 @@ TEST_F(ScenarioRun, FillsSettlesAndWritesItsOutputs) {
   EXPECT_LT(end["cup.packing_fraction"].get<double>(), 0.66);
   EXPECT_NEAR(end["cup.bulk_density"].get<double>(), end["cup.packing_fraction"].get<double>() * 1373.0, 1e-6);
   // the cup's bottom carries the weight of the grain in it (it is also its walls' sensor)
+  // (a snapshot when the kinetic energy first falls below 1 nJ: over seeds 1 to 8 it is -2 %
+  // to +8 % of the weight)
   const double weight = in_cup * sc.types[0].mass() * 9.81;
-  EXPECT_NEAR(end["bottom.force"].get<double>(), weight, 0.05 * weight);
+  EXPECT_NEAR(end["bottom.force"].get<double>(), weight, 0.1 * weight);
   EXPECT_GT(end["cup.coordination"].get<double>(), 3.0);
   EXPECT_EQ(end["lost_count"], 0.0);
   // every particle crossed the plane above the cup once, downwards
@@ -556,11 +568,11 @@ TEST_F(ScenarioRun, AStageRunsWithItsOwnTimeStep) {
 }
 
 TEST_F(ScenarioRun, WarnsWhenAPackingThatShouldRestJitters) {
-  // Restitution 0.1 (strong damping) with sticky friction: at 0.2 of the Rayleigh step the
-  // settled cup jitters (unbalanced force about 0.3: explicit integration of the damping
-  // overshoots) and the run says so; at 0.05 it comes to rest (about 0.01), and so does the
-  // default restitution of 0.5 at 0.2.
-  const std::vector<Override> sticky{parse_override("contacts.default.restitution=0.1"),
+  // Restitution 0.05 (strong damping) with sticky friction at 0.2 of the Rayleigh step: with
+  // the tangential damping unbounded, the settled cup jitters (unbalanced force about 0.36
+  // over three seeds: explicit damping overshoots) and the run says so; with the default
+  // bound it comes to rest (0.03 to 0.08), as the default restitution of 0.5 does.
+  const std::vector<Override> sticky{parse_override("contacts.default.restitution=0.05"),
                                      parse_override("contacts.default.static_friction=0.486"),
                                      parse_override("contacts.default.rolling_friction=0.05")};
   auto settle_of = [&](const std::string& dir, std::vector<Override> overrides) {
@@ -576,13 +588,13 @@ TEST_F(ScenarioRun, WarnsWhenAPackingThatShouldRestJitters) {
     });
     return std::pair{u->second, warned};
   };
-  const auto [jitter, warned] = settle_of("coarse", sticky);
-  EXPECT_GT(jitter, 0.1);
+  auto unbounded = sticky;
+  unbounded.push_back(parse_override("simulation.tangential_damping_limit=off"));
+  const auto [jitter, warned] = settle_of("unbounded", unbounded);
+  EXPECT_GT(jitter, 0.2);
   EXPECT_TRUE(warned);
-  auto fine = sticky;
-  fine.push_back(parse_override("simulation.time_step=0.05 rayleigh"));
-  const auto [rest, quiet] = settle_of("fine", fine);
-  EXPECT_LT(rest, 0.05);
+  const auto [rest, quiet] = settle_of("bounded", sticky);
+  EXPECT_LT(rest, 0.1);
   EXPECT_FALSE(quiet);
   const auto [usual, usual_warned] = settle_of("usual", {});
   EXPECT_LT(usual, 0.1);

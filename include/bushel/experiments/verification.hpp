@@ -27,6 +27,7 @@ struct Options {
 std::vector<CheckResult> restitution(const Options& o);          ///< sphere-sphere and sphere-wall, e x speed
 std::vector<CheckResult> hertz_contact_time(const Options& o);   ///< e = 1, vs the analytic duration
 std::vector<CheckResult> energy_conservation(const Options& o);  ///< e = 1, no friction, no gravity
+std::vector<CheckResult> oblique_impact(const Options& o);       ///< sliding and rolling rebound, Coulomb friction
 std::vector<CheckResult> incline(const Options& o);              ///< stick below atan(mu_s), slide above
 std::vector<CheckResult> rolling_friction(const Options& o);     ///< CDT deceleration 5/7 mu_r g
 std::vector<CheckResult> clump_free_rotation(const Options& o);  ///< energy and |L| of a torque-free clump

@@ -42,6 +42,9 @@ struct SimulationSettings {
   double skin = 0.0;            ///< Verlet skin [m]; 0 = 0.11 of the largest element diameter
   int sort_every = 20;          ///< spatial sort every N neighbour-list builds; 0 = never
   ContactTable contacts;        ///< restitution, friction, rolling friction per pair
+  /// Largest share of a contact's relative tangential velocity that its damping may take in
+  /// one step [-], gamma_t dt / m_t (contact_batch.hpp); infinity: the model's damping always.
+  double tangential_damping_limit = 0.5;
 };
 
 /// A part's faces and broad phase in its own frame, and where the frame is now (internal to
