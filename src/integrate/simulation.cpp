@@ -30,7 +30,6 @@ Vec3 load3(const double* h) { return {h[0], h[1], h[2]}; }
 void store3(double* h, const Vec3& v) { h[0] = v.x, h[1] = v.y, h[2] = v.z; }
 double min_moment(const Vec3& i) { return std::min({i.x, i.y, i.z}); }
 double max_component(const Vec3& i) { return std::max({i.x, i.y, i.z}); }
-
 // Equal principal moments (a sphere): L = I omega in any frame, so rotation needs no quaternion work.
 bool is_isotropic(const Vec3& i) { return i.x == i.y && i.y == i.z; }
 
@@ -89,7 +88,8 @@ struct PairLanes {
 };
 // The rare cases of a batch, kept out of the loop that fills it (a call there would make the
 // compiler keep that loop's pointers in memory): lanes whose coefficients differ from lane
-// 0's, and elements that are not at their bodies' centres of mass.
+// 0's, and elements that are not at their bodies' centres of mass (their offsets, and their
+// bodies' largest inverse moments for the damping bound).
 [[gnu::noinline, gnu::cold]] void set_coefficients(PairLanes& pl, const PairCoefficients* coefficients) {
   PairBatch& b = pl.batch;
   for (int k = 1; k < b.size; ++k) {  // (lane 0's are set already)
