@@ -296,8 +296,9 @@ constexpr double overlap_warning_ratio = 0.05;
 
 // A stage that waits for the particles to come to rest (a kinetic_energy condition) should end
 // near equilibrium: about 1e-4 (wheat.md), and 0.001 to 0.02 in the calibration cups. Explicit
-// integration of strong damping (restitution 0.1 at 0.1 or 0.2 of the Rayleigh step) leaves
-// the packing jittering at 0.14 to 0.5 instead, and it compacts (docs/scenarios.md). A stage
+// integration of strong tangential damping without its bound (simulation.tangential_damping_limit
+// off; restitution 0.05 at 0.2 of the Rayleigh step: 0.36) leaves the packing jittering, and it
+// compacts (docs/scenarios.md). A stage
 // that ends the moment the kinetic energy falls can also be above it while the packing still
 // settles (0.115 at restitution 0.4 in the unit tests' cup, 2e-4 0.2 s later).
 constexpr double jitter_unbalanced_force = 0.1;
