@@ -4,17 +4,24 @@
 # its per-pair parameters, next to the study's measurements and EDEM results (wheat.md).
 #
 #   validation/run-cup.sh [CASE...]     # cases: large-5s medium-5s small-5s large-1s medium-1s small-1s
+#   validation/run-cup.sh --park        # keep the unfinished cases' checkpoints with the results
 #
 # Hours on 2 cores. Each case runs in runs/validation/cup-CASE with a checkpoint every 5
 # minutes; run the script again after an interruption (Ctrl-C, a reboot) and it continues
-# each unfinished case from its checkpoint and skips finished ones. The table of every case
-# so far is written to validation/results/cup.md (and printed) after each case, and at the end
+# each unfinished case from its checkpoint and skips finished ones. A finished case's
+# summary.json is kept in validation/results/cup-runs/cup-CASE/, which is committed with the
+# results: runs/ is scratch space, and a case kept there is finished on any checkout.
+# `--park` (while the cases run or after) copies each unfinished case's latest checkpoint and
+# time series there too, compressed, so that a case can span machines: on a checkout without
+# the run folder, the script continues from the parked checkpoint. The table of every case so
+# far is written to validation/results/cup.md (and printed) after each case, and at the end
 # `bushel report` draws the cases beside the measurements in validation/results/cup/.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bushel="${BUSHEL:-$root/build/release/bin/bushel}"
 runs="$root/runs/validation"
-mkdir -p "$runs" "$root/validation/results"
+kept="$root/validation/results/cup-runs"
+mkdir -p "$runs" "$kept"
 source "$root/validation/resume.sh"
 
 # case -> overrides: parameters by name (wheat.md: single-sphere fr_ww / fs_ww / e_ww per
@@ -28,13 +35,45 @@ declare -A sets=(
   [small-1s]="fraction=small model=1s fr_ww=0.10 fs_ww=0.500 e_ww=0.1"
 )
 all=(large-5s medium-5s small-5s large-1s medium-1s small-1s)
+
+finished() { grep -qs '"interrupted": false' "$kept/cup-$1/summary.json"; }
+
+# The checkpoint and the time series up to it, in that order: the series only grows, so it
+# covers the checkpoint even if the run writes a newer one in between (the continued run cuts
+# it back to the checkpoint's length).
+park() {
+  local c dir
+  for c in "${all[@]}"; do
+    dir="$runs/cup-$c"
+    if finished "$c" || [ ! -f "$dir/checkpoint.bin" ]; then continue; fi
+    mkdir -p "$kept/cup-$c"
+    xz -T1 -c "$dir/checkpoint.bin" > "$kept/cup-$c/checkpoint.bin.xz.tmp"
+    xz -T1 -c "$dir/timeseries.csv" > "$kept/cup-$c/timeseries.csv.xz.tmp"
+    mv "$kept/cup-$c/checkpoint.bin.xz.tmp" "$kept/cup-$c/checkpoint.bin.xz"
+    mv "$kept/cup-$c/timeseries.csv.xz.tmp" "$kept/cup-$c/timeseries.csv.xz"
+    echo "$c: checkpoint parked in $kept/cup-$c ($(du -h "$kept/cup-$c/checkpoint.bin.xz" | cut -f1))" >&2
+  done
+}
+
+# A case with no run folder here but a parked checkpoint continues from that.
+unpark() {
+  local c="$1" dir="$runs/cup-$1"
+  if [ -f "$dir/checkpoint.bin" ] || [ ! -f "$kept/cup-$c/checkpoint.bin.xz" ]; then return; fi
+  mkdir -p "$dir"
+  xz -dc "$kept/cup-$c/timeseries.csv.xz" > "$dir/timeseries.csv"
+  xz -dc "$kept/cup-$c/checkpoint.bin.xz" > "$dir/checkpoint.bin.tmp"
+  mv "$dir/checkpoint.bin.tmp" "$dir/checkpoint.bin"
+  echo "$c: continuing from the checkpoint parked in $kept/cup-$c" >&2
+}
+
+if [ "${1:-}" = --park ]; then park; exit 0; fi
 cases=("$@")
 [ ${#cases[@]} -gt 0 ] || cases=("${all[@]}")
 
 table() {
-  /usr/bin/python3 - "$runs" "$root/data/reference_values.csv" "${all[@]}" <<'EOF'
+  /usr/bin/python3 - "$runs" "$kept" "$root/data/reference_values.csv" "${all[@]}" <<'EOF'
 import csv, json, os, sys
-runs, references, cases = sys.argv[1], sys.argv[2], sys.argv[3:]
+runs, kept, references, cases = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
 # the study's lab values (any model) and EDEM results (5 spheres), as `bushel report` uses them
 rows = [r for r in csv.DictReader(l for l in open(references) if not l.startswith("#"))
         if r["scenario"] == "calibration-cup" and r["result"] == "bulk_density"]
@@ -42,14 +81,25 @@ measured = {r["fraction"]: float(r["value"]) for r in rows if not r["model"]}
 edem = {r["fraction"]: float(r["value"]) for r in rows if r["model"] == "5s"}
 # The unbalanced force ratio at the end of the rest stage says whether the heaped cup was
 # static when the sensor measured it (about 1e-4, wheat.md); a packing that jitters compacts.
-print("| case | bulk density [kg/m3] | struck | measured | EDEM (5s) | diff to measured | filling time [s] | heap angle [deg] | unbalanced force at rest | particles | simulated [s] | wall [h] | particle-steps/s | status |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+# The engine build that ran a case (summary.json names it since the build recorded it).
+def engine(j):
+    e = j.get("engine")
+    if not e:
+        return "(not recorded)"
+    if len(e["builds"]) > 1:
+        return "mixed: " + "; ".join(e["builds"])
+    return e["commit"][:12] + (" (uncommitted changes)" if e["uncommitted_changes"] else "")
+print("| case | bulk density [kg/m3] | struck | measured | EDEM (5s) | diff to measured | filling time [s] | heap angle [deg] | unbalanced force at rest | particles | simulated [s] | wall [h] | particle-steps/s | engine | status |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for case in cases:
     fraction, model = case.split("-")
-    path = os.path.join(runs, "cup-" + case, "summary.json")
+    path = os.path.join(kept, "cup-" + case, "summary.json")
     if not os.path.exists(path):
-        started = os.path.exists(os.path.join(runs, "cup-" + case, "checkpoint.bin"))
-        print(f"| {case} | | | {measured[fraction]} | {edem[fraction] if model == '5s' else ''} | | | | | | | | | "
+        path = os.path.join(runs, "cup-" + case, "summary.json")
+    if not os.path.exists(path):
+        started = any(os.path.exists(os.path.join(d, "cup-" + case, f))
+                      for d, f in ((runs, "checkpoint.bin"), (kept, "checkpoint.bin.xz")))
+        print(f"| {case} | | | {measured[fraction]} | {edem[fraction] if model == '5s' else ''} | | | | | | | | | | "
               f"{'running or stopped (a checkpoint)' if started else 'not started'} |")
         continue
     j = json.load(open(path))
@@ -63,19 +113,30 @@ for case in cases:
     print(f"| {case} | {f(bd, '.1f')} | {f(r('bulk_density_struck'), '.1f')} | {measured[fraction]} | "
           f"{edem[fraction] if model == '5s' else ''} | {diff} | {f(r('filling_time'), '.2f')} | {f(r('heap_angle'), '.1f')} | "
           f"{unbalanced} | {j['factories'][0]['count']} | {j['simulated_time_s']:.2f} | {j['wall_time_s'] / 3600:.2f} | "
-          f"{j['particle_steps_per_s']:.3g} | {status} |")
+          f"{j['particle_steps_per_s']:.3g} | {engine(j)} | {status} |")
 EOF
 }
 
 for c in "${cases[@]}"; do
   [ -n "${sets[$c]:-}" ] || { echo "unknown case '$c' (known: ${!sets[*]})" >&2; exit 2; }
   dir="$runs/cup-$c"
+  if finished "$c"; then
+    echo "$c: finished before, kept ($kept/cup-$c)" >&2
+    continue
+  fi
+  unpark "$c"
   args=(--set parameters.frame_interval=1s)
   for s in ${sets[$c]}; do
     if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
   done
   rc=0
   run_or_resume "$c" "$dir" "$root/scenarios/calibration-cup.yaml" "${args[@]}" || rc=$?
+  if grep -qs '"interrupted": false' "$dir/summary.json"; then
+    mkdir -p "$kept/cup-$c"
+    cp "$dir/summary.json" "$kept/cup-$c/summary.json.tmp"
+    mv "$kept/cup-$c/summary.json.tmp" "$kept/cup-$c/summary.json"
+    rm -f "$kept/cup-$c/checkpoint.bin.xz" "$kept/cup-$c/timeseries.csv.xz"
+  fi
   if [ "${rc:-0}" -ne 0 ]; then
     echo "$c: stopped (exit ${rc}); run the script again to continue" >&2
     table > "$root/validation/results/cup.md"
@@ -87,6 +148,6 @@ table | tee "$root/validation/results/cup.md"
 # the report of every finished case (as it shows them: from the root)
 dirs=()
 for c in "${all[@]}"; do
-  if grep -qs '"interrupted": false' "$runs/cup-$c/summary.json"; then dirs+=("runs/validation/cup-$c"); fi
+  if finished "$c"; then dirs+=("validation/results/cup-runs/cup-$c"); fi
 done
 (cd "$root" && "$bushel" report "${dirs[@]}" --out validation/results/cup --title "Calibration cup at full size")

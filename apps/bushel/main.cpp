@@ -2,16 +2,13 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include "bushel/core/build_info.hpp"
 #include "bushel/core/input_error.hpp"
 #include "commands.hpp"
 
-namespace {
-constexpr const char* version = "0.1.0";
-}
-
 int main(int argc, char** argv) {
   CLI::App app{"bushel: discrete element simulation of grain bulk density"};
-  app.set_version_flag("--version", version);
+  app.set_version_flag("--version", "bushel " + bushel::build_description());
   app.require_subcommand(1);
   bushel::cli::add_particle_command(app);
   bushel::cli::add_kernel_command(app);

@@ -166,10 +166,18 @@ std::string varied_text(const Group& g, const RunSummary& run) {
 
 // --- the runs ----------------------------------------------------------------------------------
 
+// The build that ran a case (a summary names it since runs recorded their engine); several
+// when a checkpoint was continued by another build, which its warnings explain.
+std::string engine_text(const RunSummary& r) {
+  if (r.engines.empty()) return "(not recorded)";
+  if (r.engines.size() > 1) return fmt::format("{} builds (see warnings)", r.engines.size());
+  return r.engines.front();
+}
+
 ReportSection runs_section(const std::vector<Group>& groups) {
   ReportSection s{"Runs", {}};
   ReportTable t{{"case", "scenario", "varied parameters", "status", "particles made", "simulated [s]", "wall [h]",
-                 "particle-steps/s", "warnings"},
+                 "particle-steps/s", "engine", "warnings"},
                 {}};
   std::vector<std::string> warnings;
   for (const Group& g : groups) {
@@ -181,7 +189,7 @@ ReportSection runs_section(const std::vector<Group>& groups) {
                         r.interrupted ? fmt::format("interrupted at {:.3f} s", r.simulated_time) : "done",
                         std::to_string(made), fmt::format("{:.3f}", r.simulated_time),
                         fmt::format("{:.2f}", r.wall_time / 3600.0), fmt::format("{:.3g}", r.particle_steps_per_s),
-                        std::to_string(r.warnings.size())});
+                        engine_text(r), std::to_string(r.warnings.size())});
       constexpr std::size_t shown = 5;
       for (std::size_t i = 0; i < std::min(shown, r.warnings.size()); ++i)
         warnings.push_back(c.label + ": " + r.warnings[i]);

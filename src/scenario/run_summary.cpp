@@ -145,6 +145,12 @@ RunSummary read_run_summary(const std::string& path) {
     if (const auto ov = j.find("overrides"); ov != j.end() && ov->is_array()) {
       for (const auto& o : *ov) out.overrides.push_back(o.get<std::string>());
     }
+    if (const auto e = j.find("engine"); e != j.end() && e->is_object()) {
+      // (absent from summaries written before runs recorded their engine)
+      if (const auto b = e->find("builds"); b != e->end() && b->is_array()) {
+        for (const auto& x : *b) out.engines.push_back(x.get<std::string>());
+      }
+    }
     out.interrupted = member(j, "interrupted", Json::value_t::boolean, "true or false").get<bool>();
     out.dt = number(j, "dt_s");
     out.steps = member(j, "steps", Json::value_t::number_float, "a step count").get<std::size_t>();

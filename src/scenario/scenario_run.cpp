@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "bushel/core/build_info.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/core/sample_window.hpp"
 #include "bushel/insertion/sink.hpp"
@@ -244,6 +245,18 @@ std::uint64_t state_hash(const ParticleSystem& ps) {
 
 constexpr const char* checkpoint_magic = "bushel checkpoint 1";
 
+// What a run records as the build of the sittings before a checkpoint that names none (one
+// written before checkpoints recorded their engine).
+constexpr const char* earlier_engine = "an earlier build (its checkpoint names none)";
+
+// A run continued from a checkpoint by another build than the one that wrote it: its results
+// mix the two (a changed contact law, say), which the summary must say.
+std::string mixed_engines_warning(const std::vector<std::string>& engines) {
+  std::string list;
+  for (std::size_t k = 0; k < engines.size(); ++k) list += (k == 0 ? "" : ", then ") + engines[k];
+  return "the run was continued from a checkpoint by another engine build, so its results mix builds: " + list;
+}
+
 // Ctrl-C: the run stops at its next check, writes a checkpoint and returns.
 std::atomic<bool> interrupt_requested{false};
 extern "C" void on_interrupt(int) { interrupt_requested.store(true); }
@@ -263,6 +276,7 @@ struct Position {
   std::vector<std::string> warnings;
   double peak_overlap = 0.0;  // the current stage's largest overlap over the smaller radius
   std::vector<std::pair<std::string, double>> deep_overlaps;  // stages whose peak passed the warning's
+  std::vector<std::string> engines;  // the builds that ran it, oldest first (build_description)
 };
 
 // The members of a Position, then of a Sink, that a checkpoint holds, in file order: one list
@@ -360,6 +374,7 @@ class Runner {
     const fs::path dir(o_.out_dir);
     if (sc_.outputs.frame_interval > 0.0) frames_.emplace((dir / "frames").string());
     if (in) load(*in);
+    if (pos_.engines.empty() || pos_.engines.back() != build_description()) pos_.engines.push_back(build_description());
     for (const auto& name : sc_.outputs.series.empty() ? st_.names : sc_.outputs.series) {
       columns_.push_back(
           static_cast<std::size_t>(std::find(st_.names.begin(), st_.names.end(), name) - st_.names.begin()));
@@ -432,6 +447,8 @@ class Runner {
     st_.sim.save_force_sums(out);
     out.put(static_cast<std::uint64_t>(pos_.deep_overlaps.size()));
     for (const auto& [name, peak] : pos_.deep_overlaps) out.put(name), out.put(peak);
+    out.put(static_cast<std::uint64_t>(pos_.engines.size()));
+    for (const auto& e : pos_.engines) out.put(e);
     io::write_file_atomically((std::filesystem::path(o_.out_dir) / "checkpoint.bin").string(), out.bytes());
     last_checkpoint_ = Clock::now();
   }
@@ -459,6 +476,12 @@ class Runner {
       st_.sim.load_force_sums(in);
       pos_.deep_overlaps.resize(in.get<std::uint64_t>());
       for (auto& [name, peak] : pos_.deep_overlaps) in.get(name), in.get(peak);
+    }
+    if (!in.done()) {
+      pos_.engines.resize(in.get<std::uint64_t>());
+      for (auto& e : pos_.engines) in.get(e);
+    } else {
+      pos_.engines = {earlier_engine};
     }
     if (!in.done()) throw InputError("unexpected data at the end of the checkpoint (a damaged file?)");
   }
@@ -643,6 +666,8 @@ class Runner {
     report.wall_time = wall();
     report.particle_steps = pos_.particle_steps;
     report.warnings = pos_.warnings;
+    report.engines = pos_.engines;
+    if (report.engines.size() > 1) report.warnings.push_back(mixed_engines_warning(report.engines));
     if (!pos_.deep_overlaps.empty()) report.warnings.push_back(overlap_warning(pos_.deep_overlaps));
     if (!interrupted) {
       for (const auto& f : st_.factories) {
@@ -713,6 +738,10 @@ class Runner {
     namespace fs = std::filesystem;
     nlohmann::ordered_json j;
     j["scenario"] = fs::absolute(sc_.document.file).string();
+    j["engine"] = {{"version", build_info().version},
+                   {"commit", build_info().commit},
+                   {"uncommitted_changes", build_info().dirty},
+                   {"builds", report.engines}};
     nlohmann::ordered_json overrides = nlohmann::ordered_json::array();
     for (const auto& ov : sc_.document.overrides) overrides.push_back(ov.path + "=" + ov.value);
     j["overrides"] = overrides;

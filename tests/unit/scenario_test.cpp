@@ -13,6 +13,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "bushel/core/build_info.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/geometry/shapes.hpp"
 #include "bushel/io/csv.hpp"
@@ -519,6 +520,9 @@ TEST_F(ScenarioRun, ContinuesBitForBitFromACheckpoint) {
   EXPECT_EQ(ja["factories"], jb["factories"]);
   EXPECT_EQ(ja["steps"], jb["steps"]);
   EXPECT_EQ(ja["warnings"], jb["warnings"]);
+  // one build ran every sitting: the summary names it once
+  EXPECT_EQ(ja["engine"], jb["engine"]);
+  EXPECT_EQ(jb["engine"]["builds"], nlohmann::json::array({build_description()}));
   EXPECT_EQ(io::read_text_file(path("whole/timeseries.csv")), io::read_text_file(path("cut/timeseries.csv")));
   EXPECT_EQ(io::read_text_file(path("whole/frames/particles.pvd")),
             io::read_text_file(path("cut/frames/particles.pvd")));
@@ -526,6 +530,47 @@ TEST_F(ScenarioRun, ContinuesBitForBitFromACheckpoint) {
   const std::string bytes = io::read_text_file(path("cut/checkpoint.bin"));
   std::ofstream(path("cut/checkpoint.bin"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   EXPECT_THROW(resume_scenario(cut), InputError);
+}
+
+TEST_F(ScenarioRun, NamesItsEngineAndSaysWhenAnotherBuildContinuedIt) {
+  // Every summary names the build that produced it, so that results of different engine
+  // versions can be told apart (include/bushel/core/build_info.hpp).
+  const Scenario sc = read(small, {parse_override("parameters.count=60")});
+  RunOptions o;
+  o.out_dir = path("out");
+  o.progress = false;
+  o.interrupt_at = 0.02;
+  ASSERT_TRUE(run_scenario(sc, o).interrupted);
+  const auto engine = [&] {
+    std::ifstream in(path("out/summary.json"));
+    return nlohmann::json::parse(in)["engine"];
+  };
+  const BuildInfo& b = build_info();
+  EXPECT_EQ(engine()["version"], std::string(b.version));
+  EXPECT_EQ(engine()["commit"], std::string(b.commit));
+  EXPECT_EQ(engine()["uncommitted_changes"], b.dirty);
+  EXPECT_TRUE(b.commit == "unknown" ||
+              (b.commit.size() == 40 && b.commit.find_first_not_of("0123456789abcdef") == std::string_view::npos))
+      << b.commit;
+  EXPECT_EQ(build_description(),
+            fmt::format("{} (commit {}{})", b.version, b.commit.substr(0, 12), b.dirty ? ", uncommitted changes" : ""));
+
+  // A checkpoint that names no build (as before checkpoints recorded it, the list cut off
+  // its end) may come from another one: the continued run says its results mix builds.
+  const std::string bytes = io::read_text_file(path("out/checkpoint.bin"));
+  const std::size_t list = 2 * sizeof(std::uint64_t) + build_description().size();
+  ASSERT_EQ(bytes.substr(bytes.size() - build_description().size()), build_description());
+  std::ofstream(path("out/checkpoint.bin"), std::ios::binary) << bytes.substr(0, bytes.size() - list);
+  o.interrupt_at = std::numeric_limits<double>::infinity();
+  const RunReport r = resume_scenario(o);
+  ASSERT_FALSE(r.interrupted);
+  EXPECT_EQ(engine()["builds"],
+            nlohmann::json::array({"an earlier build (its checkpoint names none)", build_description()}));
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings.back().find("continued from a checkpoint by another engine build"), std::string::npos)
+      << r.warnings.back();
+  // and `bushel report` reads the builds back
+  EXPECT_EQ(read_run_summary(path("out")).engines.size(), 2u);
 }
 
 TEST_F(ScenarioRun, AStageRunsWithItsOwnTimeStep) {

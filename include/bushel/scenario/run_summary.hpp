@@ -41,6 +41,7 @@ struct RunSummary {
   std::string scenario;                                         ///< the scenario file's path
   std::vector<std::pair<std::string, std::string>> parameters;  ///< as run, in file order (text with units)
   std::vector<std::string> overrides;                           ///< "path=value" from --set
+  std::vector<std::string> engines;  ///< the builds that ran it, oldest first; empty in older summaries
   bool interrupted = false;
   double dt = 0.0;                    ///< [s]
   std::size_t steps = 0;              ///< time steps

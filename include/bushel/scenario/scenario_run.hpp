@@ -54,6 +54,7 @@ struct RunReport {
   double wall_time = 0.0;       ///< [s]
   double particle_steps = 0.0;  ///< sum over steps of the particle count
   std::vector<std::string> warnings;
+  std::vector<std::string> engines;  ///< the builds that ran it, oldest first (build_description())
 };
 
 /// Runs the scenario and writes its outputs; returns what summary.json holds.
