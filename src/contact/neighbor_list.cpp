@@ -22,6 +22,11 @@ NeighborList::NeighborList(double skin, int history_size) : skin_(skin), history
   if (history_size < 0) throw std::invalid_argument("NeighborList: negative history size");
 }
 
+void NeighborList::set_skin(double skin) {
+  if (!(skin > 0.0)) throw std::invalid_argument("NeighborList: skin must be positive");
+  skin_ = skin;
+}
+
 void NeighborList::build(std::span<const Vec3> position, std::span<const double> radius,
                          std::span<const std::uint32_t> owner, std::span<const std::uint32_t> stable_id) {
   const std::size_t n = position.size();
@@ -110,17 +115,24 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
   const auto h = static_cast<std::size_t>(history_size_);
   std::vector<double> history(first.size() * h, 0.0);
   if (h > 0 && !key_.empty()) {
-    std::vector<std::uint32_t> old_order(key_.size());
-    std::iota(old_order.begin(), old_order.end(), 0u);
-    std::sort(old_order.begin(), old_order.end(), [&](auto a, auto b) { return key_[a] < key_[b]; });
-    const auto np = static_cast<std::ptrdiff_t>(first.size());
+    // Only the old pairs whose history is not zero need carrying over: those in contact
+    // (the others' was zeroed when their contact ended), about half the list in a packed bed
+    // and few in a flow. Their keys with their slots, sorted in one contiguous array, make
+    // each new pair's lookup a binary search in a compact array.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> carried;
+    for (std::size_t o = 0; o < key_.size(); ++o) {
+      const double* old = history_.data() + o * h;
+      if (std::any_of(old, old + h, [](double v) { return v != 0.0; }))
+        carried.emplace_back(key_[o], static_cast<std::uint32_t>(o));
+    }
+    std::sort(carried.begin(), carried.end());
+    const auto np = static_cast<std::ptrdiff_t>(carried.empty() ? 0 : first.size());
 #pragma omp parallel for schedule(static) if (np > parallel_threshold)
     for (std::ptrdiff_t sp = 0; sp < np; ++sp) {
       const auto p = static_cast<std::size_t>(sp);
-      const auto it = std::lower_bound(old_order.begin(), old_order.end(), key[p],
-                                       [&](std::uint32_t o, std::uint64_t k) { return key_[o] < k; });
-      if (it != old_order.end() && key_[*it] == key[p]) {
-        std::copy_n(history_.data() + *it * h, h, history.data() + p * h);
+      const auto it = std::lower_bound(carried.begin(), carried.end(), std::pair{key[p], std::uint32_t{0}});
+      if (it != carried.end() && it->first == key[p]) {
+        std::copy_n(history_.data() + std::size_t{it->second} * h, h, history.data() + p * h);
       }
     }
   }

@@ -312,10 +312,11 @@ constexpr double overlap_warning_ratio = 0.05;
 // near equilibrium: about 1e-4 (wheat.md), and 0.001 to 0.02 in the calibration cups. Explicit
 // integration of strong tangential damping without its bound (simulation.tangential_damping_limit
 // off; restitution 0.05 at 0.2 of the Rayleigh step: 0.36) leaves the packing jittering, and it
-// compacts (docs/scenarios.md). A stage
-// that ends the moment the kinetic energy falls can also be above it while the packing still
-// settles (0.115 at restitution 0.4 in the unit tests' cup, 2e-4 0.2 s later).
-constexpr double jitter_unbalanced_force = 0.1;
+// compacts (docs/scenarios.md): 0.26 to 0.51 in the cases measured. A stage that ends the
+// moment the kinetic energy falls catches a small packing that has just come to rest at up to
+// 0.14 (the unit tests' 300-sphere cup, 16 runs; 2e-4 0.2 s later), so the threshold lies
+// between the two.
+constexpr double jitter_unbalanced_force = 0.2;
 
 // One warning for the stages whose deepest overlap passed overlap_warning_ratio.
 std::string overlap_warning(const std::vector<std::pair<std::string, double>>& stages) {
@@ -449,6 +450,7 @@ class Runner {
     for (const auto& [name, peak] : pos_.deep_overlaps) out.put(name), out.put(peak);
     out.put(static_cast<std::uint64_t>(pos_.engines.size()));
     for (const auto& e : pos_.engines) out.put(e);
+    st_.sim.save_skin_clock(out);
     io::write_file_atomically((std::filesystem::path(o_.out_dir) / "checkpoint.bin").string(), out.bytes());
     last_checkpoint_ = Clock::now();
   }
@@ -483,6 +485,7 @@ class Runner {
     } else {
       pos_.engines = {earlier_engine};
     }
+    if (!in.done()) st_.sim.load_skin_clock(in);
     if (!in.done()) throw InputError("unexpected data at the end of the checkpoint (a damaged file?)");
   }
 

@@ -77,11 +77,13 @@ TEST(Determinism, TheUnbalancedForceComesBackFromASavedState) {
   io::BinaryWriter out;
   a.simulation.save_state(out);
   a.simulation.save_force_sums(out);
+  a.simulation.save_skin_clock(out);
   const std::string bytes = out.bytes();
   PourScene b = make_pour_scene(bed_spec());
   io::BinaryReader in(bytes, "state");
   b.simulation.load_state(in);
   b.simulation.load_force_sums(in);
+  b.simulation.load_skin_clock(in);
   EXPECT_TRUE(in.done());
   EXPECT_EQ(b.simulation.unbalanced_force_ratio(), a.simulation.unbalanced_force_ratio());
   EXPECT_GT(a.simulation.unbalanced_force_ratio(), 0.0);

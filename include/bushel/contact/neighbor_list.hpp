@@ -50,6 +50,9 @@ class NeighborList {
   double* history(std::size_t p) { return history_.data() + p * static_cast<std::size_t>(history_size_); }
   int history_size() const { return history_size_; }
   double skin() const { return skin_; }
+  /// Sets the skin [m] > 0 that the next build uses (the current list keeps its own until then:
+  /// call it just before build).
+  void set_skin(double skin);
   std::size_t builds() const { return builds_; }
 
   /// Pairs are stored grouped by their first element: those of element i are the

@@ -39,9 +39,11 @@ struct SimulationSettings {
   Vec3 gravity{0.0, 0.0, -9.81};  ///< [m/s2]
   Integrator integrator = Integrator::symplectic_euler;
   std::string rolling = "cdt";  ///< rolling model: cdt, epsd, none
-  double skin = 0.0;            ///< Verlet skin [m]; 0 = 0.11 of the largest element diameter
-  int sort_every = 20;          ///< spatial sort every N neighbour-list builds; 0 = never
-  ContactTable contacts;        ///< restitution, friction, rolling friction per pair
+  /// Verlet skin [m]; 0 = adaptive, from 0.11 to 0.35 of the largest element diameter, as
+  /// the particles' motion asks (Simulation::rebuild)
+  double skin = 0.0;
+  int sort_every = 20;    ///< spatial sort every N neighbour-list builds; 0 = never
+  ContactTable contacts;  ///< restitution, friction, rolling friction per pair
   /// Largest share of a contact's relative tangential velocity that its damping may take in
   /// one step [-], gamma_t dt / m_t (contact_batch.hpp); infinity: the model's damping always.
   double tangential_damping_limit = 0.5;
@@ -93,6 +95,11 @@ class Simulation {
   /// out: a checkpoint stores them after everything else, so that older ones still load.
   void save_force_sums(io::BinaryWriter& out) const;
   void load_force_sums(io::BinaryReader& in);
+  /// The step of the last neighbour-list build, which the adaptive skin measures from (the
+  /// skin itself is in the list): stored last for the same reason. Without it (an older
+  /// checkpoint) load_state counts from the saved step.
+  void save_skin_clock(io::BinaryWriter& out) const;
+  void load_skin_clock(io::BinaryReader& in);
 
   /// Advances `n` steps.
   void step(std::uint64_t n = 1);
@@ -121,7 +128,7 @@ class Simulation {
 
  private:
   void prepare();
-  void rebuild();
+  void rebuild(bool due_to_motion = false);
   void find_part_candidates();
   void move_parts(double t, double dt);
   void update_servos();
@@ -150,6 +157,8 @@ class Simulation {
   std::size_t forces_parts_ = 0;  // part count the last forces were computed with
   int rebuild_due_ = -1;          // from the last drift: 1 yes, 0 no, -1 unknown (check every element)
   bool neighbors_configured_ = false;
+  double skin_min_ = 0.0, skin_max_ = 0.0;  // the skin's range [m]: equal when it is fixed
+  std::uint64_t last_build_step_ = 0;       // steps_ at the last neighbour-list build
 
   // per pair: the reaction on the second element from the last force computation, written
   // only for touching pairs whose second element is not summed directly (second_direct_)
