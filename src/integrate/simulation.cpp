@@ -690,7 +690,7 @@ void Simulation::rebuild(bool due_to_motion) {
   // against how often it is rebuilt (a build costs a few steps). Where the fastest element
   // crossed half the skin in fewer than 40 steps (a stream falling from a funnel) the skin
   // grows, up to 0.35 d; where it took more than 160 it shrinks, down to 0.11 d (a settled
-  // bed). On the reduced calibration cup this ran the run 8 % faster than 0.11 d fixed
+  // bed). On the reduced calibration cup this ran the run 11 % faster than 0.11 d fixed
   // (docs/engine.md). It depends only on step counts, so every thread count follows the
   // same skins.
   if (due_to_motion && skin_max_ > skin_min_) {

@@ -148,7 +148,7 @@ RunSummary read_run_summary(const std::string& path) {
     if (const auto e = j.find("engine"); e != j.end() && e->is_object()) {
       // (absent from summaries written before runs recorded their engine)
       if (const auto b = e->find("builds"); b != e->end() && b->is_array()) {
-        for (const auto& x : *b) out.engines.push_back(x.get<std::string>());
+        for (const auto& x : *b) out.engines.push_back(x.is_string() ? x.get<std::string>() : x.dump());
       }
     }
     out.interrupted = member(j, "interrupted", Json::value_t::boolean, "true or false").get<bool>();
