@@ -6,7 +6,9 @@
 #   validation/run-cup.sh [CASE...]     # cases: large-5s medium-5s small-5s large-1s medium-1s small-1s
 #   validation/run-cup.sh --park        # keep the unfinished cases' checkpoints with the results
 #
-# Hours on 2 cores. Each case runs in runs/validation/cup-CASE with a checkpoint every 5
+# Hours on 2 cores; on a machine used for other work too, two scripts with one thread each
+# (OMP_NUM_THREADS=1) and different cases go faster than one with two (validation/README.md).
+# Each case runs in runs/validation/cup-CASE with a checkpoint every 5
 # minutes; run the script again after an interruption (Ctrl-C, a reboot) and it continues
 # each unfinished case from its checkpoint and skips finished ones. A finished case's
 # summary.json is kept in validation/results/cup-runs/cup-CASE/, which is committed with the
