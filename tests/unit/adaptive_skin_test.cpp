@@ -1,6 +1,7 @@
 // The adaptive Verlet skin (Simulation::rebuild): it widens while the fastest element crosses
-// half of it in fewer than 40 steps, narrows while that takes more than 160, stays between
-// 0.11 and 0.35 of the largest element diameter, and a skin set in the settings is kept.
+// half of it in fewer than 40 steps, narrows while that takes more than 160 (and every 160
+// steps without a build), stays between 0.11 and 0.35 of the largest element diameter, and a
+// skin set in the settings is kept.
 
 #include <gtest/gtest.h>
 
@@ -52,8 +53,19 @@ TEST(AdaptiveSkin, WidensForFastElementsAndNarrowsForSlowOnes) {
   // (6 builds to get there, then one every 32 steps instead of every 10)
   EXPECT_LT(p.sim.neighbors().builds() - builds, 45u);
   // 1,000 steps across half the narrowest: it narrows again, down to 0.11 d
-  p.move(0.5 * least / (1000 * 1e-5), 20000);
+  p.move(0.5 * least / (1000 * 1e-5), 1000);
+  EXPECT_LT(p.sim.neighbors().skin(), most);
+  p.move(0.5 * least / (1000 * 1e-5), 1000);
   EXPECT_DOUBLE_EQ(p.sim.neighbors().skin(), least);
+  // and at rest too: one build every 161 steps while it is wider than the least
+  p.move(0.5 * least / (10 * 1e-5), 200);
+  EXPECT_DOUBLE_EQ(p.sim.neighbors().skin(), most);
+  const std::size_t before_rest = p.sim.neighbors().builds();
+  p.move(0.0, 6 * 161);
+  EXPECT_DOUBLE_EQ(p.sim.neighbors().skin(), least);
+  EXPECT_EQ(p.sim.neighbors().builds() - before_rest, 6u);
+  p.move(0.0, 1000);
+  EXPECT_EQ(p.sim.neighbors().builds() - before_rest, 6u);
 }
 
 TEST(AdaptiveSkin, ASkinSetInTheSettingsIsKept) {

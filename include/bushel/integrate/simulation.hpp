@@ -128,7 +128,9 @@ class Simulation {
 
  private:
   void prepare();
-  void rebuild(bool due_to_motion = false);
+  /// Builds the lists; `adapt_skin` when the build is due to motion (or to narrow the skin),
+  /// so that the adaptive skin may change first.
+  void rebuild(bool adapt_skin = false);
   void find_part_candidates();
   void move_parts(double t, double dt);
   void update_servos();
