@@ -1,6 +1,9 @@
 # Sourced by the validation scripts: runs that survive an interruption (docs/scenarios.md,
 # checkpoints). Needs $bushel, the bushel binary.
-#
+
+# run_finished DIR: DIR holds a finished run (its summary says it was not interrupted).
+run_finished() { grep -qs '"interrupted": false' "$1/summary.json"; }
+
 # run_or_resume LABEL DIR SCENARIO [ARGS...]
 #   DIR holds a finished run (summary.json, not interrupted): it is kept.
 #   DIR holds a checkpoint: the run continues from it (bushel run --restart DIR), with the
@@ -10,7 +13,7 @@
 run_or_resume() {
   local label="$1" dir="$2" scenario="$3"
   shift 3
-  if grep -qs '"interrupted": false' "$dir/summary.json"; then
+  if run_finished "$dir"; then
     echo "$label: finished before, kept ($dir)" >&2
     return 0
   fi

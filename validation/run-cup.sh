@@ -38,7 +38,7 @@ declare -A sets=(
 )
 all=(large-5s medium-5s small-5s large-1s medium-1s small-1s)
 
-finished() { grep -qs '"interrupted": false' "$kept/cup-$1/summary.json"; }
+finished() { run_finished "$kept/cup-$1"; }
 
 # The checkpoint and the time series up to it, in that order: the series only grows, so it
 # covers the checkpoint even if the run writes a newer one in between (the continued run cuts
@@ -133,7 +133,7 @@ for c in "${cases[@]}"; do
   done
   rc=0
   run_or_resume "$c" "$dir" "$root/scenarios/calibration-cup.yaml" "${args[@]}" || rc=$?
-  if grep -qs '"interrupted": false' "$dir/summary.json"; then
+  if run_finished "$dir"; then
     mkdir -p "$kept/cup-$c"
     cp "$dir/summary.json" "$kept/cup-$c/summary.json.tmp"
     mv "$kept/cup-$c/summary.json.tmp" "$kept/cup-$c/summary.json"

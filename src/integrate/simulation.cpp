@@ -33,6 +33,15 @@ double max_component(const Vec3& i) { return std::max({i.x, i.y, i.z}); }
 // Equal principal moments (a sphere): L = I omega in any frame, so rotation needs no quaternion work.
 bool is_isotropic(const Vec3& i) { return i.x == i.y && i.y == i.z; }
 
+// The adaptive skin (Simulation::rebuild): it widens when a build comes fewer than this many
+// steps after the last, narrows when more, by this factor a build, between these shares of
+// the largest element radius (0.11 and 0.35 of its diameter).
+constexpr std::uint64_t skin_widen_below_steps = 40;
+constexpr std::uint64_t skin_narrow_above_steps = 160;
+constexpr double skin_factor = 1.25;
+constexpr double skin_least_per_radius = 0.22;
+constexpr double skin_most_per_radius = 0.70;
+
 // Sphere-part contacts on their way through the contact law: the law's inputs in SoA form,
 // and per contact what the rolling model, the torques and the result slots need.
 struct LaneExtra {
@@ -516,8 +525,8 @@ void Simulation::prepare() {
       for (const auto& t : types) {
         for (const auto& e : t.shape.spheres) r_max = std::max(r_max, e.radius);
       }
-      skin_min_ = settings_.skin > 0.0 ? settings_.skin : 0.22 * r_max;
-      skin_max_ = settings_.skin > 0.0 ? settings_.skin : 0.70 * r_max;
+      skin_min_ = settings_.skin > 0.0 ? settings_.skin : skin_least_per_radius * r_max;
+      skin_max_ = settings_.skin > 0.0 ? settings_.skin : skin_most_per_radius * r_max;
       neighbors_ = NeighborList(skin_min_, history_size(rolling_));
       neighbors_configured_ = true;
     }
@@ -690,13 +699,13 @@ void Simulation::rebuild(bool adapt_skin) {
   // against how often it is rebuilt (a build costs a few steps). Where the fastest element
   // crossed half the skin in fewer than 40 steps (a stream falling from a funnel) the skin
   // grows, up to 0.35 d; where it took more than 160 it shrinks, down to 0.11 d (a settled
-  // bed). On the reduced calibration cup this ran single spheres 9 % faster than 0.11 d fixed,
-  // and clumps as fast (docs/engine.md). It depends only on step counts, so every thread count follows the
-  // same skins.
+  // bed). On the reduced calibration cup this ran single spheres 9 % faster than 0.11 d
+  // fixed, and clumps as fast (docs/engine.md). It depends only on step counts, so every
+  // thread count follows the same skins.
   if (adapt_skin && skin_max_ > skin_min_) {
     const std::uint64_t interval = steps_ - last_build_step_;
-    if (interval < 40) neighbors_.set_skin(std::min(skin_max_, 1.25 * neighbors_.skin()));
-    if (interval > 160) neighbors_.set_skin(std::max(skin_min_, neighbors_.skin() / 1.25));
+    if (interval < skin_widen_below_steps) neighbors_.set_skin(std::min(skin_max_, skin_factor * neighbors_.skin()));
+    if (interval > skin_narrow_above_steps) neighbors_.set_skin(std::max(skin_min_, neighbors_.skin() / skin_factor));
   }
   last_build_step_ = steps_;
   if (settings_.sort_every > 0 && neighbors_.builds() % static_cast<std::size_t>(settings_.sort_every) == 0) {
@@ -1068,7 +1077,7 @@ void Simulation::compute_forces() {
   // A skin wider than the least is narrowed once 160 steps pass without a build, rather than
   // at the next build that motion causes, which is rare once the particles rest: a bed that
   // settles after a flow soon runs at the narrowest skin again.
-  const bool narrow = neighbors_.skin() > skin_min_ && steps_ - last_build_step_ > 160;
+  const bool narrow = neighbors_.skin() > skin_min_ && steps_ - last_build_step_ > skin_narrow_above_steps;
   if (parts_changed_ || due || narrow) rebuild(moved || narrow);
   std::visit([this](const auto& model) { compute_forces(model); }, rolling_);
 }
