@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "bushel/core/vector_clones.hpp"
+
 namespace bushel {
 namespace {
 
@@ -124,16 +126,8 @@ template <bool centred, bool uniform>
 
 }  // namespace
 
-// Built three times where the compiler and the C library allow it: for AVX-512 (8 contacts
-// per instruction; +10% per step on the benchmark's bed), AVX2 and the baseline, chosen once
-// at load time by the processor. All give the same bits (no contraction into fused
-// multiply-adds: -ffp-contract=off).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
-#define BUSHEL_VECTOR_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define BUSHEL_VECTOR_CLONES
-#endif
-
+// Built for each instruction set (vector_clones.hpp); AVX-512 gave +10% per step on the
+// benchmark's bed.
 BUSHEL_VECTOR_CLONES void solve(ContactBatch& batch, double dt, double damping_rate) {
   const int n = batch.size;
 #pragma omp simd

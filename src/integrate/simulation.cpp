@@ -17,6 +17,7 @@
 #include "bushel/core/parallel.hpp"
 #include "bushel/geometry/part_contact.hpp"
 #include "bushel/integrate/rigid_rotation.hpp"
+#include "bushel/integrate/rotation_batch.hpp"
 #include "bushel/io/binary_archive.hpp"
 
 #ifdef BUSHEL_HAVE_OPENMP
@@ -1129,11 +1130,12 @@ void Simulation::kick(double dt) {
 
 void Simulation::drift(double dt) {
   auto& ps = particles_;
-  const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
+  const std::size_t nb = ps.bodies();
+  constexpr std::size_t block = RotationBatch::capacity;
+  const auto blocks = static_cast<std::ptrdiff_t>((nb + block - 1) / block);
   double moved2 = 0.0;  // largest squared displacement of an element since the last build [m2]
 #pragma omp parallel for schedule(static) reduction(max : moved2) if (nb > parallel_threshold)
-  for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
-    const auto b = static_cast<std::size_t>(sb);
+  for (std::ptrdiff_t k0 = 0; k0 < blocks; ++k0) {
     // The elements are measured against the neighbour list's skin while at hand (declared in
     // the loop so that it updates this thread's copy of moved2).
     const auto measure = [&](std::uint32_t s, const Vec3& p) {
@@ -1141,23 +1143,42 @@ void Simulation::drift(double dt) {
       element_moved2_[s] = d2;  // bounds the part-face distances (find_part_candidates)
       moved2 = std::max(moved2, d2);
     };
-    ps.position[b] += ps.velocity[b] * dt;
-    // A lone sphere's orientation changes nothing, so it is not advanced (as LIGGGHTS's
-    // nve/sphere).
-    if (ps.sphere_count[b] == 1) {
-      ps.place_elements(b, measure);
-      continue;
+    // The block's clumps with anisotropic inertia rotate together (rotation_batch.hpp); each
+    // body's result does not depend on which others share its batch.
+    RotationBatch batch;
+    std::array<std::size_t, block> body;
+    int n = 0;
+    const std::size_t b0 = static_cast<std::size_t>(k0) * block, b1 = std::min(nb, b0 + block);
+    for (std::size_t b = b0; b < b1; ++b) {
+      ps.position[b] += ps.velocity[b] * dt;
+      // A lone sphere's orientation changes nothing, so it is not advanced (as LIGGGHTS's
+      // nve/sphere).
+      if (ps.sphere_count[b] == 1) {
+        ps.place_elements(b, measure);
+        continue;
+      }
+      Quat& q = ps.orientation[b];
+      if (is_isotropic(ps.inertia[b])) {
+        q = advance(q, ps.angular_velocity[b], dt);  // omega is constant
+        ps.place_elements(b, to_matrix(q), measure);
+        continue;
+      }
+      const Vec3 &w = ps.angular_velocity[b], &ii = ps.inverse_inertia[b], &l = ps.angular_momentum[b];
+      batch.qw[n] = q.w, batch.qx[n] = q.x, batch.qy[n] = q.y, batch.qz[n] = q.z;
+      batch.wx[n] = w.x, batch.wy[n] = w.y, batch.wz[n] = w.z;
+      batch.ix[n] = ii.x, batch.iy[n] = ii.y, batch.iz[n] = ii.z;
+      batch.lx[n] = l.x, batch.ly[n] = l.y, batch.lz[n] = l.z;
+      body[static_cast<std::size_t>(n++)] = b;
     }
-    Quat& q = ps.orientation[b];
-    if (is_isotropic(ps.inertia[b])) {
-      q = advance(q, ps.angular_velocity[b], dt);  // omega is constant
-      ps.place_elements(b, to_matrix(q), measure);
-      continue;
+    batch.size = n;
+    if (n > 0) rotate_rigid(batch, dt);
+    for (int k = 0; k < n; ++k) {
+      const std::size_t b = body[static_cast<std::size_t>(k)];
+      ps.orientation[b] = {batch.qw[k], batch.qx[k], batch.qy[k], batch.qz[k]};
+      const Mat3 r = to_matrix(ps.orientation[b]);
+      ps.angular_velocity[b] = angular_velocity_from_momentum(r, ps.inverse_inertia[b], ps.angular_momentum[b]);
+      ps.place_elements(b, r, measure);
     }
-    rotate_rigid(q, ps.inverse_inertia[b], ps.angular_momentum[b], ps.angular_velocity[b], dt);
-    const Mat3 r = to_matrix(q);
-    ps.angular_velocity[b] = angular_velocity_from_momentum(r, ps.inverse_inertia[b], ps.angular_momentum[b]);
-    ps.place_elements(b, r, measure);
   }
   rebuild_due_ = neighbors_.needs_rebuild(moved2) ? 1 : 0;
 }
