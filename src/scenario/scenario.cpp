@@ -242,7 +242,12 @@ double read_time_step(const ScenarioNode& parent, double rayleigh_step, double& 
     return fraction * rayleigh_step;
   }
   fraction = 0.0;
-  const double dt = parent.positive("time_step", dim::time);
+  double dt = 0.0;
+  try {
+    dt = parent.positive("time_step", dim::time);
+  } catch (const InputError& e) {  // (say the other form too: "0.2 rayleighs" is a typo of it)
+    throw ts.error(e.problem() + "; or a fraction of the smallest element's Rayleigh step, e.g. '0.2 rayleigh'");
+  }
   if (dt > rayleigh_step) {
     throw ts.error(fmt::format(
         "a time step of {:.4g} us is above the Rayleigh step of the smallest element ({:.4g} us): the contacts "
