@@ -25,8 +25,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    // One line, naming what was wrong; --help lists the options.
-    fmt::print(stderr, "bushel: error: {}\n", e.what());
+    // One line, naming what was wrong, and where the options are listed.
+    fmt::print(stderr, "bushel: error: {} (--help lists the commands and options)\n", e.what());
     return e.get_exit_code() != 0 ? e.get_exit_code() : 2;
   } catch (const bushel::InputError& e) {
     fmt::print(stderr, "bushel: error: {}\n", e.what());
