@@ -7,7 +7,8 @@
 #   validation/run-cup.sh --park        # keep the unfinished cases' checkpoints with the results
 #
 # Hours on 2 cores; on a machine used for other work too, two scripts with one thread each
-# (OMP_NUM_THREADS=1) and different cases go faster than one with two (validation/README.md).
+# (OMP_NUM_THREADS=1) go faster than one with two (validation/README.md). They may be given
+# the same cases: each leaves the case that the other is running to it and takes the next.
 # Each case runs in runs/validation/cup-CASE with a checkpoint every 5
 # minutes; run the script again after an interruption (Ctrl-C, a reboot) and it continues
 # each unfinished case from its checkpoint and skips finished ones. A finished case's
@@ -133,6 +134,7 @@ for c in "${cases[@]}"; do
   done
   rc=0
   run_or_resume "$c" "$dir" "$root/scenarios/calibration-cup.yaml" "${args[@]}" || rc=$?
+  if [ "$rc" -eq "$run_busy" ]; then continue; fi  # (another script runs it: the next case)
   if run_finished "$dir"; then
     mkdir -p "$kept/cup-$c"
     cp "$dir/summary.json" "$kept/cup-$c/summary.json.tmp"

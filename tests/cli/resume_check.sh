@@ -26,6 +26,31 @@ before=$(md5sum < "$work/run/summary.json")
 run_or_resume cup "$work/run" "$cup" --quiet "${sets[@]}" 2> "$work/3.txt"
 grep -q "cup: finished before, kept" "$work/3.txt" || fail "no kept message: $(cat "$work/3.txt")"
 [ "$(md5sum < "$work/run/summary.json")" = "$before" ] || fail "a finished run was run again"
+# a run that another script is running now is left to it ($run_busy), then run once it is free
+exec {held}> "$work/next.lock"
+flock -n "$held" || fail "could not take the lock"
+status=0
+run_or_resume next "$work/next" "$cup" --quiet "${sets[@]}" > /dev/null 2> "$work/4.txt" || status=$?
+[ "$status" -eq "$run_busy" ] || fail "a run held by another script returned $status, not $run_busy"
+grep -q "next: another script is running it now" "$work/4.txt" || fail "no busy message: $(cat "$work/4.txt")"
+[ ! -e "$work/next" ] || fail "a run held by another script was started"
+exec {held}>&-
+run_or_resume next "$work/next" "$cup" --quiet --stop-at 5ms "${sets[@]}" > /dev/null 2> "$work/5.txt" ||
+  fail "the freed run did not start: $(cat "$work/5.txt")"
+[ -f "$work/next/checkpoint.bin" ] || fail "the freed run did not run"
+# the lock is held by bushel too: to the run's end, even if the script that started it dies
+# (a stand-in for bushel that says when it started, then runs for 5 s)
+stub="$work/slow-bushel"
+printf '#!/bin/sh\ntouch "%s"\nsleep 5\n' "$work/slow.started" > "$stub"
+chmod +x "$stub"
+(bushel="$stub" && run_or_resume slow "$work/slow" "$cup") 2> /dev/null &
+script=$!
+for _ in $(seq 300); do [ -e "$work/slow.started" ] && break; sleep 0.1; done
+[ -e "$work/slow.started" ] || fail "the stand-in did not start"
+kill "$script" && wait "$script" 2> /dev/null || true
+status=0
+run_or_resume slow "$work/slow" "$cup" 2> "$work/6.txt" || status=$?
+[ "$status" -eq "$run_busy" ] || fail "a run whose script died was not left to its bushel (status $status)"
 # bushel's exit status comes back
 if run_or_resume bad "$work/bad" "$cup" --quiet --set parameters.mass=-5g 2> /dev/null; then
   fail "a failed run returned 0"
