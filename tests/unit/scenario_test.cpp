@@ -145,12 +145,12 @@ TEST(Scenario, ErrorsNameTheFileLineAndKey) {
   EXPECT_NE(error_of(replaced(small, "time_step: 0.2 rayleigh", "time_step: 1 ms")).find("above the Rayleigh step"),
             std::string::npos);
   // a time step that is neither a time nor a Rayleigh fraction names both forms
-  EXPECT_NE(error_of(replaced(small, "time_step: 0.2 rayleigh", "time_step: 0.2 rayleighs"))
-                .find("s.yaml:4: key 'simulation.time_step': expected a time with a unit (s, ms, us, min, h), got "
+  const std::string typo = error_of(replaced(small, "time_step: 0.2 rayleigh", "time_step: 0.2 rayleighs"));
+  EXPECT_NE(typo.find("s.yaml:4: key 'simulation.time_step': expected a time with a unit (s, ms, us, min, h), got "
                       "'0.2 rayleighs': unknown unit 'rayleighs'; or a fraction of the smallest element's Rayleigh "
                       "step, e.g. '0.2 rayleigh'"),
             std::string::npos)
-      << error_of(replaced(small, "time_step: 0.2 rayleigh", "time_step: 0.2 rayleighs"));
+      << typo;
   // a stage's own time step is checked as the simulation's is, at its line
   EXPECT_NE(error_of(replaced(small, "  - name: settle\n", "  - name: settle\n    time_step: 1 ms\n"))
                 .find("s.yaml:32: key 'stages.1.time_step': a time step of 1000 us is above the Rayleigh step"),
