@@ -318,6 +318,9 @@ constexpr double overlap_warning_ratio = 0.05;
 // between the two.
 constexpr double jitter_unbalanced_force = 0.2;
 
+// The progress line's steps/s and ETA are over this much of the latest wall time [s].
+constexpr double progress_window = 300.0;
+
 // The largest overlap over the smaller radius at the end of the finished stage `name` (its
 // value max_overlap_ratio then), or 0 if it is not among them.
 double end_overlap(const std::vector<StageReport>& done, const std::string& name) {
@@ -580,13 +583,16 @@ class Runner {
     if (tty_ ? since < 0.25 : since < o_.progress_interval) return;
     last_line_ = now;
     const Simulation& sim = st_.sim;
+    // The speed over the last progress_window of wall time, not since the stage began: a
+    // pour slows as contacts multiply, and a long sitting's average would lag far behind.
     const double w = std::chrono::duration<double>(now - stage_wall0_).count();
-    const double rate = w > 0.0 ? (sim.time() - stage_time0_) / w : 0.0;  // simulated s per wall s
-    const double eta = rate > 0.0 ? (limit - (sim.time() - pos_.t0)) / rate : std::numeric_limits<double>::infinity();
+    recent_steps_.add(w, static_cast<double>(sim.steps()), progress_window);
+    const double steps_per_s = recent_steps_.slope();
+    const double eta = steps_per_s > 0.0 ? (limit - (sim.time() - pos_.t0)) / (steps_per_s * sim.settings().dt)
+                                         : std::numeric_limits<double>::infinity();
     fmt::print(stderr, "{}stage {}/{} {}  t = {:.4f} s  particles {}  {:.0f} steps/s  stage ETA {}{}{}",
                tty_ ? "\r" : "", pos_.stage + 1, sc_.stages.size(), stage.name, sim.time(), sim.particles().bodies(),
-               static_cast<double>(sim.steps() - stage_steps0_) / std::max(w, 1e-9),
-               stage.duration ? "" : "<= ", format_duration(eta), tty_ ? "   " : "\n");
+               steps_per_s, stage.duration ? "" : "<= ", format_duration(eta), tty_ ? "   " : "\n");
   }
 
   RunReport loop() {
@@ -614,8 +620,8 @@ class Runner {
       sim.set_time_step(stage.dt.value_or(sc_.settings.dt));
       const double dt = sim.settings().dt;
       stage_wall0_ = Clock::now();
-      stage_time0_ = sim.time();
-      stage_steps0_ = sim.steps();
+      recent_steps_ = {};
+      recent_steps_.add(0.0, static_cast<double>(sim.steps()), progress_window);
       const double limit = stage.duration ? std::min(*stage.duration, stage.max_time) : stage.max_time;
       std::string end;
       while ((end = ended_by(stage)).empty()) {
@@ -859,8 +865,7 @@ class Runner {
   std::vector<std::size_t> columns_;
   std::ofstream series_;
   Clock::time_point wall0_, last_line_, last_checkpoint_, stage_wall0_;
-  double stage_time0_ = 0.0;
-  std::uint64_t stage_steps0_ = 0;
+  SampleWindow recent_steps_;  // (wall s since the stage's start in this sitting, step count)
   bool tty_ = false;
 };
 

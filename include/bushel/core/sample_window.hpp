@@ -21,6 +21,12 @@ struct SampleWindow {
     time.erase(time.begin(), time.begin() + static_cast<std::ptrdiff_t>(drop));
     value.erase(value.begin(), value.begin() + static_cast<std::ptrdiff_t>(drop));
   }
+
+  /// The mean rate of change over the samples kept [value/s]: 0 until two times differ.
+  [[nodiscard]] double slope() const {
+    const double span = time.empty() ? 0.0 : time.back() - time.front();
+    return span > 0.0 ? (value.back() - value.front()) / span : 0.0;
+  }
 };
 
 }  // namespace bushel
