@@ -749,11 +749,23 @@ Scenario read_scenario(ScenarioDocument document) {
   }
 
   // --- outputs --------------------------------------------------------------------------------
+  // Outputs are written at checks (scenario_run.cpp), so that what is written never changes
+  // what is simulated: an interval shorter than the checks' could not be kept.
+  auto not_below_checks = [&](const ScenarioNode& node, double interval) {
+    if (interval < sc.check_interval * (1.0 - 1e-9)) {
+      throw node.at("interval")
+          .error(fmt::format(
+              "expected an interval of at least simulation.check_interval ({:g} ms), got {:g} ms: outputs are written "
+              "at checks, so that they never change what is simulated (a shorter simulation.check_interval allows it)",
+              sc.check_interval * 1e3, interval * 1e3));
+    }
+  };
   if (const auto out = root.find("outputs")) {
     out->allow_only({"timeseries", "frames"});
     if (const auto ts = out->find("timeseries")) {
       ts->allow_only({"interval", "values"});
       sc.outputs.series_interval = ts->positive_or("interval", dim::time, 0.01);
+      if (ts->has("interval")) not_below_checks(*ts, sc.outputs.series_interval);
       if (const auto v = ts->find("values")) {
         for (const ScenarioNode& item : v->items())
           sc.outputs.series.push_back(values[index_in(item, values, "value")]);
@@ -762,6 +774,7 @@ Scenario read_scenario(ScenarioDocument document) {
     if (const auto fr = out->find("frames")) {
       fr->allow_only({"interval"});
       sc.outputs.frame_interval = fr->positive("interval", dim::time);
+      not_below_checks(*fr, sc.outputs.frame_interval);
     }
   }
   sc.document = std::move(document);

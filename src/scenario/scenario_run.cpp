@@ -646,10 +646,12 @@ class Runner {
             break;
           }
         }
-        // advance to the next check, output or end of the stage
+        // advance to the next check or the end of the stage. Outputs wait for a check (and
+        // are written at its time): stopping the steps at their times would move the checks
+        // (factories, sinks, stage conditions), so a new column or frame rate would change
+        // what is simulated.
         const double elapsed = sim.time() - pos_.t0;
-        double span = std::min({sc_.check_interval, limit - elapsed, pos_.next_row - sim.time()});
-        if (frames_) span = std::min(span, pos_.next_frame - sim.time());
+        const double span = std::min(sc_.check_interval, limit - elapsed);
         const auto n = static_cast<std::uint64_t>(std::max(1.0, std::round(span / dt)));
         const double before = sim.time();
         sim.step(n);

@@ -18,12 +18,7 @@ void PlaneFlow::update(const ParticleSystem& ps, double t) {
   samples_.add(t, mass_, window_);
 }
 
-double PlaneFlow::rate() const {
-  const auto& t = samples_.time;
-  const auto& m = samples_.value;
-  if (t.size() < 2 || !(t.back() > t.front())) return 0.0;
-  return (m.back() - m.front()) / (t.back() - t.front());
-}
+double PlaneFlow::rate() const { return samples_.slope(); }
 
 void PlaneFlow::save(io::BinaryWriter& out) const {
   out.put(mass_);

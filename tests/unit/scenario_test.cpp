@@ -569,6 +569,44 @@ TEST_F(ScenarioRun, ContinuesBitForBitFromACheckpoint) {
   EXPECT_THROW(resume_scenario(cut), InputError);
 }
 
+TEST_F(ScenarioRun, OutputsNeverChangeWhatIsSimulated) {
+  // Rows every 1 ms instead of 10, frames every 2.5 ms or none: the same run to the bit. (Steps
+  // that stopped at each output's time moved the checks, at which factories, sinks and stage
+  // conditions act, after every stage's start.)
+  // (poured at a rate: the factory acts at the checks)
+  const std::string base = replaced(replaced(small, "  count: 300", "  count: 150"), "    count: ${count}\n",
+                                    "    count: ${count}\n    rate: 0.1 kg/s\n");
+  auto final_state = [&](const std::string& text, const std::string& dir) {
+    RunOptions o;
+    o.out_dir = path(dir);
+    o.progress = false;
+    run_scenario(read(text), o);
+    std::ifstream in(path(dir + "/summary.json"));
+    const auto j = nlohmann::json::parse(in);
+    return std::make_pair(j["final_state_hash"], j["stages"]);
+  };
+  const auto plain = final_state(base, "plain");
+  const auto dense =
+      final_state(replaced(replaced(base, "timeseries: {interval: 10 ms}", "timeseries: {interval: 1 ms}"),
+                           "frames: {interval: 50 ms}", "frames: {interval: 2.5 ms}"),
+                  "dense");
+  const auto no_frames = final_state(replaced(base, "  frames: {interval: 50 ms}\n", ""), "no_frames");
+  EXPECT_EQ(plain, dense);
+  EXPECT_EQ(plain, no_frames);
+  // Outputs are written at checks: one more often than they could not be kept.
+  EXPECT_NE(error_of(replaced(base, "timeseries: {interval: 10 ms}", "timeseries: {interval: 0.5 ms}"))
+                .find("key 'outputs.timeseries.interval': expected an interval of at least "
+                      "simulation.check_interval (1 ms), got 0.5 ms"),
+            std::string::npos)
+      << error_of(replaced(base, "timeseries: {interval: 10 ms}", "timeseries: {interval: 0.5 ms}"));
+  EXPECT_NE(error_of(replaced(base, "frames: {interval: 50 ms}", "frames: {interval: 0.2 ms}"))
+                .find("outputs.frames.interval"),
+            std::string::npos);
+  EXPECT_EQ(error_of(replaced(base, "timeseries: {interval: 10 ms}", "timeseries: {interval: 0.5 ms}"),
+                     {parse_override("simulation.check_interval=0.5ms")}),
+            "(no error)");
+}
+
 TEST_F(ScenarioRun, NamesItsEngineAndSaysWhenAnotherBuildContinuedIt) {
   // Every summary names the build that produced it, so that results of different engine
   // versions can be told apart (include/bushel/core/build_info.hpp).
