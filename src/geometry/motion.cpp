@@ -106,6 +106,7 @@ void Motion::validate() const {
     if (!(servo.start >= 0.0) || !(servo.end > servo.start)) {
       throw InputError("expected 0 <= start < end in seconds").with_key("servo.start");
     }
+    if (std::isnan(servo.limit)) throw InputError("expected a position along the axis in m").with_key("servo.limit");
   }
 }
 
@@ -142,8 +143,11 @@ double advance(const Motion& motion, double servo_speed, Pose& pose, double t, d
   if (motion.has_servo) {
     const double lo = std::max(t, motion.servo.start), hi = std::min(t1, motion.servo.end);
     if (hi > lo) {
-      pose.position += (servo_speed * (hi - lo)) * motion.servo.axis;
-      moved += std::abs(servo_speed) * (hi - lo);
+      const ServoSpec& servo = motion.servo;
+      double along = servo_speed * (hi - lo);
+      if (along > 0.0) along = std::min(along, std::max(0.0, servo.limit - dot(pose.position, servo.axis)));
+      pose.position += along * servo.axis;
+      moved += std::abs(along);
     }
   }
   return moved;
@@ -174,12 +178,15 @@ Twist twist_at(const Motion& motion, double servo_speed, const Pose& pose, doubl
   return w;
 }
 
-ServoState update_servo(const ServoSpec& servo, const ServoState& previous, const Vec3& force_on_part, double t) {
+ServoState update_servo(const ServoSpec& servo, const ServoState& previous, const Vec3& force_on_part,
+                        const Vec3& position, double t) {
   ServoState s;
   s.measured_force = -dot(force_on_part, servo.axis);
   if (!active(servo.start, servo.end, t)) return s;
   const double error = servo.target_force - s.measured_force;
   s.speed = std::clamp(servo.gain * error, -servo.max_speed, servo.max_speed);
+  // at its limit (within a nanometre: advance stops it there) it waits for the force to lift it
+  if (s.speed > 0.0 && dot(position, servo.axis) >= servo.limit - 1e-9) s.speed = 0.0;
   s.held = std::abs(error) <= servo.tolerance * servo.target_force;
   s.held_since = s.held ? (previous.held ? previous.held_since : t) : -1.0;
   return s;

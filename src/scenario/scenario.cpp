@@ -125,7 +125,7 @@ Motion read_motion(const ScenarioNode& list) {
     if (!(end > start)) throw seg.at("end").error("expected an end after the start");
     const ScenarioNode k = seg.at(kind);
     if (kind == "servo") {
-      k.allow_only({"axis", "force", "pressure", "area", "gain", "max_speed", "tolerance"});
+      k.allow_only({"axis", "force", "pressure", "area", "gain", "max_speed", "tolerance", "stop"});
       ServoSpec s;
       s.axis = k.has("axis") ? unit_vector(k.at("axis")) : Vec3{0, 0, -1};
       s.area = k.positive_or("area", dim::area, 0.0);
@@ -141,6 +141,8 @@ Motion read_motion(const ScenarioNode& list) {
       if (!(s.gain > 0.0)) throw k.at("gain").error("expected a positive gain in (m/s)/N");
       s.tolerance = k.has("tolerance") ? k.at("tolerance").quantity(dim::dimensionless) : 0.01;
       if (!(s.tolerance > 0.0 && s.tolerance < 1.0)) throw k.at("tolerance").error("expected a tolerance in (0, 100%)");
+      // a point that the part's origin does not pass along the axis
+      if (k.has("stop")) s.limit = dot(k.at("stop").vector(dim::length), s.axis);
       s.start = start;
       s.end = end;
       if (m.has_servo) throw seg.error("a part has at most one servo");

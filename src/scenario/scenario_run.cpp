@@ -243,7 +243,9 @@ std::uint64_t state_hash(const ParticleSystem& ps) {
   return h;
 }
 
-constexpr const char* checkpoint_magic = "bushel checkpoint 1";
+// Format 2 added the servos' limit; format 1 still loads.
+constexpr const char* checkpoint_magic = "bushel checkpoint 2";
+constexpr const char* checkpoint_magic_format1 = "bushel checkpoint 1";
 
 // What a run records as the build of the sittings before a checkpoint that names none (one
 // written before checkpoints recorded their engine).
@@ -414,11 +416,11 @@ class Runner {
   Runner(const Scenario& sc, const RunOptions& o) : sc_(sc), o_(o), st_(sc) {}
 
   // A fresh run; or, with `in`, the rest of the checkpointed run in it.
-  RunReport run(io::BinaryReader* in) {
+  RunReport run(io::BinaryReader* in, int format = 2) {
     namespace fs = std::filesystem;
     const fs::path dir(o_.out_dir);
     if (sc_.outputs.frame_interval > 0.0) frames_.emplace((dir / "frames").string());
-    if (in) load(*in);
+    if (in) load(*in, format);
     if (pos_.engines.empty() || pos_.engines.back() != build_description()) pos_.engines.push_back(build_description());
     for (const auto& name : sc_.outputs.series.empty() ? st_.names : sc_.outputs.series) {
       columns_.push_back(
@@ -499,7 +501,7 @@ class Runner {
     last_checkpoint_ = Clock::now();
   }
 
-  void load(io::BinaryReader& in) {
+  void load(io::BinaryReader& in, int format) {
     // (the header, up to the parameters, was read by resume_scenario)
     each_checkpointed(pos_, [&](auto& m) { in.get(m); });
     in.get(pos_.wall_before);
@@ -516,7 +518,7 @@ class Runner {
     for (Sink* k : sinks_and_lost()) each_checkpointed(*k, [&](auto& m) { in.get(m); });
     for (auto& f : st_.flows) f.load(in);
     if (frames_) frames_->load(in);
-    st_.sim.load_state(in);
+    st_.sim.load_state(in, format);
     if (!in.done()) {
       in.get(pos_.peak_overlap);
       st_.sim.load_force_sums(in);
@@ -896,7 +898,8 @@ RunReport resume_scenario(const RunOptions& options) {
   if (!std::filesystem::exists(path)) throw InputError("no checkpoint to continue from").at(path);
   const std::string bytes = io::read_text_file(path);
   io::BinaryReader in(bytes, path);
-  if (in.get<std::string>() != checkpoint_magic)
+  const auto magic = in.get<std::string>();
+  if (magic != checkpoint_magic && magic != checkpoint_magic_format1)
     throw InputError("not a bushel checkpoint (or of another version)").at(path);
   // The scenario as it was resolved (overrides applied, parameters substituted), read again
   // as if from its file, so that relative paths (meshes, templates) still resolve.
@@ -916,7 +919,7 @@ RunReport resume_scenario(const RunOptions& options) {
   const Scenario sc = read_scenario(std::move(doc));
   prepare_output(options, sc.threads);
   Runner runner(sc, options);
-  return runner.run(&in);
+  return runner.run(&in, magic == checkpoint_magic ? 2 : 1);
 }
 
 }  // namespace bushel

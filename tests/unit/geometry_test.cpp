@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -257,15 +258,49 @@ TEST(Motion, ServoMovesTowardsItsTarget) {
   s.target_force = 10.0;
   s.gain = 1e-3;
   s.max_speed = 5e-3;
-  ServoState st = update_servo(s, {}, {0, 0, 2.0}, 0.0);  // particles push up with 2 N
+  ServoState st = update_servo(s, {}, {0, 0, 2.0}, {}, 0.0);  // particles push up with 2 N
   EXPECT_NEAR(st.speed, 8e-3 > 5e-3 ? 5e-3 : 8e-3, 1e-15);
   EXPECT_FALSE(st.held);
-  st = update_servo(s, st, {0, 0, 10.05}, 0.1);
+  st = update_servo(s, st, {0, 0, 10.05}, {}, 0.1);
   EXPECT_TRUE(st.held);
   EXPECT_NEAR(st.speed, -5e-5, 1e-15);
-  st = update_servo(s, st, {0, 0, 9.95}, 0.2);
+  st = update_servo(s, st, {0, 0, 9.95}, {}, 0.2);
   EXPECT_TRUE(st.held);
   EXPECT_EQ(st.held_since, 0.1);
+}
+
+TEST(Motion, ServoStopsAtItsLimitAndRidesUpUnderLoad) {
+  // A striker pressed down with 2 N, its origin no lower than z = 0.1 m (limit = -0.1 along
+  // the downward axis), while it also moves along y.
+  Motion m;
+  MotionSegment across;
+  across.velocity = {0, 0.2, 0};
+  m.segments.push_back(across);
+  m.has_servo = true;
+  m.servo.axis = {0, 0, -1};
+  m.servo.target_force = 2.0;
+  m.servo.gain = 0.1;
+  m.servo.max_speed = 0.5;
+  m.servo.limit = -0.1;
+  m.validate();
+  Pose pose{{0, 0, 0.1005}, {}};
+  // nothing under it: it moves down at full speed, 0.5 mm of which are left, and stops there
+  ServoState st = update_servo(m.servo, {}, {}, pose.position, 0.0);
+  EXPECT_EQ(st.speed, 0.2);  // (gain x 2 N)
+  const double moved = advance(m, st.speed, pose, 0.0, 0.01, 0.0);
+  EXPECT_NEAR(pose.position.z, 0.1, 1e-15);
+  EXPECT_NEAR(pose.position.y, 0.002, 1e-15);
+  EXPECT_NEAR(moved, 0.002 + 0.0005, 1e-15);
+  st = update_servo(m.servo, st, {}, pose.position, 0.01);
+  EXPECT_EQ(st.speed, 0.0);  // at its limit
+  EXPECT_EQ(twist_at(m, st.speed, pose, 0.01).velocity.z, 0.0);
+  // a kernel caught under it pushes up with 5 N: it rises at gain x 3 N
+  st = update_servo(m.servo, st, {0, 0, 5.0}, pose.position, 0.02);
+  EXPECT_NEAR(st.speed, -0.3, 1e-15);
+  advance(m, st.speed, pose, 0.02, 0.001, 0.0);
+  EXPECT_NEAR(pose.position.z, 0.1003, 1e-15);
+  m.servo.limit = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(m.validate(), InputError);
 }
 
 TEST(Parts, BadPartsAreInputErrors) {

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
+#include <array>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -468,6 +470,70 @@ TEST_F(ScenarioRun, AStageCanTakeAPartAway) {
   for (int k = 0; std::filesystem::exists(path(fmt::format("out/frames/geometry_{:05d}.vtu", k))); ++k)
     last = path(fmt::format("out/frames/geometry_{:05d}.vtu", k));
   EXPECT_NE(io::read_text_file(last).find("NumberOfCells=\"0\""), std::string::npos);
+}
+
+TEST_F(ScenarioRun, AStrikerOnAServoRidesOverKernelsInsteadOfCrushingThem) {
+  // Kernels on a cup's bottom stand 1.14 mm above its rim. A bar whose lower face is at the
+  // rim pushes them to the far wall, where nothing can give: a bar driven along the rim
+  // presses them 0.5 radii deep (the bottom and the wall hold them); pressed onto the rim by
+  // a servo with 0.5 N, it rises over them and comes back down to the rim.
+  const std::string text = R"(simulation:
+  time_step: 0.2 rayleigh
+  domain: {min: -40 -40 -10 mm, max: 40 40 40 mm}
+materials:
+  wheat: {shear_modulus: 22.4 MPa, poisson_ratio: 0.22, density: 1373 kg/m3}
+  steel: {shear_modulus: 37 GPa, poisson_ratio: 0.25, density: 8560 kg/m3}
+particle_types:
+  grain: {diameter: 3.64 mm, material: wheat}
+contacts:
+  default: {restitution: 0.5, static_friction: 0.27, rolling_friction: 0.01}
+parts:
+  cup: {shape: cylinder, radius: 15 mm, height: 2.5 mm, side: inside, cap_bottom: true, material: steel}
+  striker: {shape: box, size: 70 10 10 mm, side: outside, position: 0 -25 7.5 mm, material: steel, enabled: false}
+factories:
+  pour: {region: {shape: box, centre: 0 0 8 mm, size: 24 24 6 mm}, count: 25, types: grain}
+sensors:
+  bar: {kind: part, part: striker}
+stages:
+  - name: fill
+    until: {factories_done: true, max_time: 0.1 s}
+  - name: settle
+    until: {kinetic_energy: 1 nJ, min_time: 20 ms, max_time: 0.5 s}
+  - name: strike
+    enable: [striker]
+    motions:
+      striker: [{translate: 0 0.2 0 m/s}, SERVO]
+    until: {time: 0.25 s}
+outputs:
+  timeseries: {interval: 1 ms, values: [time, particles, max_overlap_ratio, bar.position_z]}
+)";
+  // the largest overlap over the smaller radius in the strike, and the bar's highest and last
+  // height [m]
+  auto strike = [&](const std::string& servo, const std::string& dir) {
+    RunOptions o;
+    o.out_dir = path(dir);
+    o.progress = false;
+    run_scenario(read(replaced(text, "SERVO", servo)), o);
+    std::istringstream rows(io::read_text_file(path(dir + "/timeseries.csv")));
+    std::string row;
+    std::getline(rows, row);
+    double deepest = 0.0, top = 0.0, last = 0.0;
+    while (std::getline(rows, row)) {
+      double t = 0.0, n = 0.0, overlap = 0.0, z = 0.0;
+      if (row.rfind("strike,", 0) != 0) continue;
+      EXPECT_EQ(std::sscanf(row.c_str(), "strike,%lf,%lf,%lf,%lf", &t, &n, &overlap, &z), 4) << row;
+      deepest = std::max(deepest, overlap), top = std::max(top, z), last = z;
+    }
+    return std::array{deepest, top, last};
+  };
+  const auto driven = strike("{translate: 0 0 0 m/s}", "driven");
+  EXPECT_GT(driven[0], 0.3);  // (0.51)
+  EXPECT_EQ(driven[1], 0.0075);
+  const auto riding =
+      strike("{servo: {axis: 0 0 -1, force: 0.5 N, max_speed: 0.5 m/s, gain: 0.5, stop: 0 0 7.5 mm}}", "riding");
+  EXPECT_LT(riding[0], 0.1);  // (4.5 %: the kernels caught under it carry 0.5 N and what pushing them takes)
+  EXPECT_GT(riding[1], 0.0075 + 0.5e-3);  // it rose over the kernels
+  EXPECT_NEAR(riding[2], 0.0075, 1e-9);   // and came back down onto its stop
 }
 
 TEST_F(ScenarioRun, WarnsOnceOfDeepOverlapsAcrossACheckpoint) {

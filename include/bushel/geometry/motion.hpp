@@ -48,7 +48,9 @@ struct MotionSegment {
 };
 
 /// Moves a part along `axis` to hold the force the particles exert against that motion at
-/// `target_force`: speed = gain (target - measured), limited to max_speed.
+/// `target_force`: speed = gain (target - measured), limited to max_speed, and never past
+/// `limit` (a striker pressed onto a rim with a hand's force, which rides up over a kernel
+/// caught under it instead of crushing it).
 struct ServoSpec {
   Vec3 axis{0, 0, -1};        ///< unit direction of travel that loads the particles
   double target_force = 0.0;  ///< [N]
@@ -58,6 +60,8 @@ struct ServoSpec {
   double tolerance = 0.01;    ///< held while |measured - target| <= tolerance x target [-]
   double start = 0.0;         ///< [s]
   double end = std::numeric_limits<double>::infinity();  ///< [s]
+  /// The part's origin goes along the axis no further than dot(origin, axis) = limit [m]
+  double limit = std::numeric_limits<double>::infinity();
 };
 
 /// What a servo did in the last step.
@@ -90,7 +94,9 @@ struct Twist {
 double advance(const Motion& motion, double servo_speed, Pose& pose, double t, double dt, double reach);
 /// The part's twist at time t.
 Twist twist_at(const Motion& motion, double servo_speed, const Pose& pose, double t);
-/// The servo's new state from the force the particles applied to the part at time t.
-ServoState update_servo(const ServoSpec& servo, const ServoState& previous, const Vec3& force_on_part, double t);
+/// The servo's new state from the force the particles applied to the part at time t, with
+/// the part's origin at `position` [m].
+ServoState update_servo(const ServoSpec& servo, const ServoState& previous, const Vec3& force_on_part,
+                        const Vec3& position, double t);
 
 }  // namespace bushel

@@ -90,7 +90,8 @@ class Simulation {
   /// histories, time), for a checkpoint. `load_state` into a simulation built with the same
   /// settings, types and parts continues bit for bit as the saved one would have.
   void save_state(io::BinaryWriter& out) const;
-  void load_state(io::BinaryReader& in);
+  /// `format`: that of the checkpoint (1: servos without their limit, 2: now).
+  void load_state(io::BinaryReader& in, int format = 2);
   /// The last step's contact force sums (of unbalanced_force_ratio), which save_state leaves
   /// out: a checkpoint stores them after everything else, so that older ones still load.
   void save_force_sums(io::BinaryWriter& out) const;
