@@ -27,20 +27,23 @@
 namespace bushel {
 namespace {
 
-// A small scenario: 300 spheres poured into a cylindrical cup with a sink under it.
-const std::string small = R"(parameters:
-  count: 300
-simulation:
-  time_step: 0.2 rayleigh
-  domain: {min: -40 -40 -30 mm, max: 40 40 120 mm}
-materials:
+// Wheat spheres 3.64 mm across, and steel.
+const std::string wheat_and_steel = R"(materials:
   wheat: {shear_modulus: 22.4 MPa, poisson_ratio: 0.22, density: 1373 kg/m3}
   steel: {shear_modulus: 37 GPa, poisson_ratio: 0.25, density: 8560 kg/m3}
 particle_types:
   grain: {diameter: 3.64 mm, material: wheat}
 contacts:
   default: {restitution: 0.5, static_friction: 0.27, rolling_friction: 0.01}
-parts:
+)";
+
+// A small scenario: 300 spheres poured into a cylindrical cup with a sink under it.
+const std::string small = R"(parameters:
+  count: 300
+simulation:
+  time_step: 0.2 rayleigh
+  domain: {min: -40 -40 -30 mm, max: 40 40 120 mm}
+)" + wheat_and_steel + R"(parts:
   cup: {shape: cylinder, radius: 15 mm, height: 40 mm, side: inside, cap_bottom: true, material: steel}
 factories:
   pour:
@@ -480,14 +483,7 @@ TEST_F(ScenarioRun, AStrikerOnAServoRidesOverKernelsInsteadOfCrushingThem) {
   const std::string text = R"(simulation:
   time_step: 0.2 rayleigh
   domain: {min: -40 -40 -10 mm, max: 40 40 40 mm}
-materials:
-  wheat: {shear_modulus: 22.4 MPa, poisson_ratio: 0.22, density: 1373 kg/m3}
-  steel: {shear_modulus: 37 GPa, poisson_ratio: 0.25, density: 8560 kg/m3}
-particle_types:
-  grain: {diameter: 3.64 mm, material: wheat}
-contacts:
-  default: {restitution: 0.5, static_friction: 0.27, rolling_friction: 0.01}
-parts:
+)" + wheat_and_steel + R"(parts:
   cup: {shape: cylinder, radius: 15 mm, height: 2.5 mm, side: inside, cap_bottom: true, material: steel}
   striker: {shape: box, size: 70 10 10 mm, side: outside, position: 0 -25 7.5 mm, material: steel, enabled: false}
 factories:
