@@ -243,9 +243,8 @@ std::uint64_t state_hash(const ParticleSystem& ps) {
   return h;
 }
 
-// Format 2 added the servos' limit; format 1 still loads.
-constexpr const char* checkpoint_magic = "bushel checkpoint 2";
-constexpr const char* checkpoint_magic_format1 = "bushel checkpoint 1";
+// "bushel checkpoint N", N = Simulation::checkpoint_format or an earlier one that still loads.
+std::string checkpoint_magic(int format) { return "bushel checkpoint " + std::to_string(format); }
 
 // What a run records as the build of the sittings before a checkpoint that names none (one
 // written before checkpoints recorded their engine).
@@ -416,7 +415,7 @@ class Runner {
   Runner(const Scenario& sc, const RunOptions& o) : sc_(sc), o_(o), st_(sc) {}
 
   // A fresh run; or, with `in`, the rest of the checkpointed run in it.
-  RunReport run(io::BinaryReader* in, int format = 2) {
+  RunReport run(io::BinaryReader* in, int format) {
     namespace fs = std::filesystem;
     const fs::path dir(o_.out_dir);
     if (sc_.outputs.frame_interval > 0.0) frames_.emplace((dir / "frames").string());
@@ -469,7 +468,7 @@ class Runner {
 
   void save_checkpoint() {
     io::BinaryWriter out;
-    out.put(std::string(checkpoint_magic));
+    out.put(checkpoint_magic(Simulation::checkpoint_format));
     out.put(sc_.document.file);
     out.put(echo_text(sc_.document));
     out.put(static_cast<std::uint64_t>(sc_.document.overrides.size()));
@@ -890,7 +889,7 @@ void prepare_output(const RunOptions& o, int scenario_threads) {
 RunReport run_scenario(const Scenario& sc, const RunOptions& options) {
   prepare_output(options, sc.threads);
   Runner runner(sc, options);
-  return runner.run(nullptr);
+  return runner.run(nullptr, Simulation::checkpoint_format);
 }
 
 RunReport resume_scenario(const RunOptions& options) {
@@ -899,8 +898,9 @@ RunReport resume_scenario(const RunOptions& options) {
   const std::string bytes = io::read_text_file(path);
   io::BinaryReader in(bytes, path);
   const auto magic = in.get<std::string>();
-  if (magic != checkpoint_magic && magic != checkpoint_magic_format1)
-    throw InputError("not a bushel checkpoint (or of another version)").at(path);
+  int format = Simulation::checkpoint_format;
+  while (format >= 1 && magic != checkpoint_magic(format)) --format;
+  if (format < 1) throw InputError("not a bushel checkpoint (or of another version)").at(path);
   // The scenario as it was resolved (overrides applied, parameters substituted), read again
   // as if from its file, so that relative paths (meshes, templates) still resolve.
   const auto file = in.get<std::string>();
@@ -919,7 +919,7 @@ RunReport resume_scenario(const RunOptions& options) {
   const Scenario sc = read_scenario(std::move(doc));
   prepare_output(options, sc.threads);
   Runner runner(sc, options);
-  return runner.run(&in, magic == checkpoint_magic ? 2 : 1);
+  return runner.run(&in, format);
 }
 
 }  // namespace bushel

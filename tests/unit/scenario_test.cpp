@@ -17,6 +17,7 @@
 
 #include "bushel/core/build_info.hpp"
 #include "bushel/core/input_error.hpp"
+#include "bushel/geometry/motion.hpp"
 #include "bushel/geometry/shapes.hpp"
 #include "bushel/io/csv.hpp"
 #include "bushel/io/stl.hpp"
@@ -667,6 +668,38 @@ TEST_F(ScenarioRun, OutputsNeverChangeWhatIsSimulated) {
   EXPECT_EQ(error_of(replaced(base, "timeseries: {interval: 10 ms}", "timeseries: {interval: 0.5 ms}"),
                      {parse_override("simulation.check_interval=0.5ms")}),
             "(no error)");
+}
+
+TEST_F(ScenarioRun, ContinuesACheckpointOfTheFormatBeforeServoStops) {
+  // Format 1 held each part's servo without its limit: the same checkpoint in format 1 (the
+  // parts' servos, all default here, without their last 8 bytes) continues to the same end.
+  const Scenario sc = read(small, {parse_override("parameters.count=60")});
+  RunOptions o;
+  o.progress = false;
+  o.out_dir = path("whole");
+  run_scenario(sc, o);
+  o.out_dir = path("cut");
+  o.interrupt_at = 0.02;
+  ASSERT_TRUE(run_scenario(sc, o).interrupted);
+  std::string bytes = io::read_text_file(path("cut/checkpoint.bin"));
+  const ServoSpec servo;
+  const std::string now(reinterpret_cast<const char*>(&servo), sizeof servo), before = now.substr(0, sizeof servo - 8);
+  const std::string magic = "bushel checkpoint ";
+  const auto at = bytes.find(magic + "2");
+  ASSERT_NE(at, std::string::npos);
+  bytes[at + magic.size()] = '1';
+  int parts = 0;
+  for (auto k = bytes.find(now); k != std::string::npos; k = bytes.find(now, k + before.size()), ++parts)
+    bytes.replace(k, now.size(), before);
+  EXPECT_EQ(parts, 1);  // the cup
+  std::ofstream(path("cut/checkpoint.bin"), std::ios::binary) << bytes;
+  o.interrupt_at = std::numeric_limits<double>::infinity();
+  ASSERT_FALSE(resume_scenario(o).interrupted);
+  auto hash = [&](const std::string& dir) {
+    std::ifstream in(path(dir + "/summary.json"));
+    return nlohmann::json::parse(in)["final_state_hash"];
+  };
+  EXPECT_EQ(hash("whole"), hash("cut"));
 }
 
 TEST_F(ScenarioRun, NamesItsEngineAndSaysWhenAnotherBuildContinuedIt) {

@@ -90,8 +90,10 @@ class Simulation {
   /// histories, time), for a checkpoint. `load_state` into a simulation built with the same
   /// settings, types and parts continues bit for bit as the saved one would have.
   void save_state(io::BinaryWriter& out) const;
-  /// `format`: that of the checkpoint (1: servos without their limit, 2: now).
-  void load_state(io::BinaryReader& in, int format = 2);
+  /// The checkpoint format that save_state writes: 2 added the servos' limit.
+  static constexpr int checkpoint_format = 2;
+  /// `format`: that of the checkpoint (1 and 2 load).
+  void load_state(io::BinaryReader& in, int format = checkpoint_format);
   /// The last step's contact force sums (of unbalanced_force_ratio), which save_state leaves
   /// out: a checkpoint stores them after everything else, so that older ones still load.
   void save_force_sums(io::BinaryWriter& out) const;
