@@ -158,9 +158,6 @@ struct ContactViews {
   double damping_rate;  // largest tangential damping over the contact's sliding mass [1/s] (contact_batch.hpp)
 };
 
-// How many pairs ahead the batch fill prefetches a history (about a memory latency of work).
-constexpr std::size_t prefetch_distance = 8;
-
 struct ChunkResult {
   double max_ratio = 0.0;    // largest overlap over the smaller radius
   std::size_t touching = 0;  // sphere-sphere contacts
@@ -259,6 +256,9 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     pl.ended[n_ended] = static_cast<std::uint32_t>(p);
     n_ended += active[p] > touch ? 1 : 0;
     active[p] = touch;
+    // The chunk's histories (a few kB, in pair order) are read by the batch fill below and
+    // missed the cache there; fetched while this loop runs, they are in by then.
+    __builtin_prefetch(history + p * static_cast<std::size_t>(h), 1);
   }
   for (std::size_t e = 0; e < n_ended; ++e)
     std::fill_n(history + std::size_t{pl.ended[e]} * static_cast<std::size_t>(h), h, 0.0);
@@ -285,9 +285,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       pb.mi[k] = mass[bi], pb.mj[k] = mass[bj];
       const double* hist = history + std::size_t{p} * static_cast<std::size_t>(h);
       pb.xi_x[k] = hist[0], pb.xi_y[k] = hist[1], pb.xi_z[k] = hist[2];
-      // The loads that miss: the history some pairs ahead, and j's sums that finish_pairs adds to.
-      const std::size_t ahead = std::min(t0 + kk + prefetch_distance, n_touching - 1);
-      __builtin_prefetch(history + std::size_t{pl.touching[ahead]} * static_cast<std::size_t>(h));
+      // j's sums, which finish_pairs adds to after the batch is solved, miss the cache otherwise.
       __builtin_prefetch(&second_force[j], 1);
       __builtin_prefetch(&second_torque[j], 1);
       const std::uint32_t co = species[i] * ns + species[j];
