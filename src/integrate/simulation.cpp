@@ -247,18 +247,30 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
   pl.touching.resize(p1 - p0);
   pl.ended.resize(p1 - p0);
   std::size_t n_touching = 0, n_ended = 0;
-  for (std::size_t p = p0; p < p1; ++p) {
-    const std::uint32_t i = first[p], j = second[p];
-    const double reach = radius[i] + radius[j];
-    const std::uint8_t touch = norm2(x_el[j] - x_el[i]) < reach * reach ? 1 : 0;
-    pl.touching[n_touching] = static_cast<std::uint32_t>(p);
-    n_touching += touch;
-    pl.ended[n_ended] = static_cast<std::uint32_t>(p);
-    n_ended += active[p] > touch ? 1 : 0;
-    active[p] = touch;
-    // The chunk's histories (a few kB, in pair order) are read by the batch fill below and
-    // missed the cache there; fetched while this loop runs, they are in by then.
-    __builtin_prefetch(history + p * static_cast<std::size_t>(h), 1);
+  {
+    // Plain local pointers: the byte store to `active` may alias anything whose address
+    // escaped (the views, the workspace's vectors), so through those the compiler reloaded
+    // nine pointers from memory on every pair.
+    const std::uint32_t *const first_of = first.data(), *const second_of = second.data();
+    const double* const radius_of = radius.data();
+    const Vec3* const x_of = x_el.data();
+    std::uint32_t *const touching = pl.touching.data(), *const ended = pl.ended.data();
+    std::uint8_t* const active_of = active.data();
+    const double* const history_of = history;
+    const auto stride = static_cast<std::size_t>(h);
+    for (std::size_t p = p0; p < p1; ++p) {
+      const std::uint32_t i = first_of[p], j = second_of[p];
+      const double reach = radius_of[i] + radius_of[j];
+      const std::uint8_t touch = norm2(x_of[j] - x_of[i]) < reach * reach ? 1 : 0;
+      touching[n_touching] = static_cast<std::uint32_t>(p);
+      n_touching += touch;
+      ended[n_ended] = static_cast<std::uint32_t>(p);
+      n_ended += active_of[p] > touch ? 1 : 0;
+      active_of[p] = touch;
+      // The chunk's histories (a few kB, in pair order) are read by the batch fill below and
+      // missed the cache there; fetched while this loop runs, they are in by then.
+      __builtin_prefetch(history_of + p * stride, 1);
+    }
   }
   for (std::size_t e = 0; e < n_ended; ++e)
     std::fill_n(history + std::size_t{pl.ended[e]} * static_cast<std::size_t>(h), h, 0.0);
