@@ -300,6 +300,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       // j's sums, which finish_pairs adds to after the batch is solved, miss the cache otherwise.
       __builtin_prefetch(&second_force[j], 1);
       __builtin_prefetch(&second_torque[j], 1);
+      __builtin_prefetch(&second_cdt[j], 1);
       const std::uint32_t co = species[i] * ns + species[j];
       pl.coefficient[kk] = co;
       uniform &= co == co0;
