@@ -270,6 +270,11 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       // The chunk's histories (a few kB, in pair order) are read by the batch fill below and
       // missed the cache there; fetched while this loop runs, they are in by then.
       __builtin_prefetch(history_of + p * stride, 1);
+      if (p + 16 < p1) {
+        const std::uint32_t ahead = second_of[p + 16];
+        __builtin_prefetch(x_of + ahead);
+        __builtin_prefetch(radius_of + ahead);
+      }
     }
   }
   for (std::size_t e = 0; e < n_ended; ++e)
