@@ -270,8 +270,10 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       // The chunk's histories (a few kB, in pair order) are read by the batch fill below and
       // missed the cache there; fetched while this loop runs, they are in by then.
       __builtin_prefetch(history_of + p * stride, 1);
-      if (p + 16 < p1) {
-        const std::uint32_t ahead = second_of[p + 16];
+      // The second element of a pair a little ahead: its position and radius are this
+      // loop's only scattered reads (bench/README.md).
+      if (constexpr std::size_t ahead_by = 16; p + ahead_by < p1) {
+        const std::uint32_t ahead = second_of[p + ahead_by];
         __builtin_prefetch(x_of + ahead);
         __builtin_prefetch(radius_of + ahead);
       }
