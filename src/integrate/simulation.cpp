@@ -310,6 +310,9 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
       __builtin_prefetch(&second_force[j], 1);
       __builtin_prefetch(&second_torque[j], 1);
       __builtin_prefetch(&second_cdt[j], 1);
+      // And j's body position and inverse moments, which set_offsets reads for clumps.
+      __builtin_prefetch(&x_b[bj]);
+      __builtin_prefetch(&inverse_inertia[bj]);
       const std::uint32_t co = species[i] * ns + species[j];
       pl.coefficient[kk] = co;
       uniform &= co == co0;
