@@ -68,53 +68,110 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
     for (std::size_t i = 0; i < n; ++i) cell_items[fill[cell_index[i]]++] = static_cast<std::uint32_t>(i);
   }
 
+  // The elements in cell order as plain arrays, so that the scan reads each cell's run
+  // contiguously instead of gathering positions, radii and owners element by element.
+  std::vector<double> run_x(n), run_y(n), run_z(n), run_r(n);
+  std::vector<std::uint32_t> run_owner(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint32_t j = cell_items[k];
+    run_x[k] = position[j].x, run_y[k] = position[j].y, run_z[k] = position[j].z;
+    run_r[k] = radius[j];
+    run_owner[k] = owner[j];
+  }
+
   // --- candidate pairs, per element i (j > i), in two passes so threads never share -------
   // Per-element partner buffers live in the list so rebuilds reuse their capacity.
   auto& partners = partners_;
   partners.resize(n);
   const auto sn = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(dynamic, 256) if (sn > parallel_threshold)
-  for (std::ptrdiff_t si = 0; si < sn; ++si) {
-    const auto i = static_cast<std::size_t>(si);
-    std::int64_t cx, cy, cz;
-    cell_of(position[i], cx, cy, cz);
-    auto& out = partners[i];
-    out.clear();
-    for (std::int64_t dz = -1; dz <= 1; ++dz) {
-      const std::int64_t z = cz + dz;
-      if (z < 0 || z >= nz) continue;
-      for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        const std::int64_t y = cy + dy;
-        if (y < 0 || y >= ny) continue;
-        for (std::int64_t dx = -1; dx <= 1; ++dx) {
-          const std::int64_t x = cx + dx;
-          if (x < 0 || x >= nx) continue;
-          const auto c = static_cast<std::size_t>((z * ny + y) * nx + x);
-          for (std::uint32_t k = cell_start[c]; k < cell_start[c + 1]; ++k) {
-            const std::uint32_t j = cell_items[k];
-            if (j <= i || owner[j] == owner[i]) continue;
-            const double reach = radius[i] + radius[j] + skin_;
-            if (norm2(position[j] - position[i]) < reach * reach) out.push_back(j);
+  // (plain local pointers: the partner lists' stores may alias anything whose address
+  // escaped, so through the vectors every pointer was reloaded on every candidate)
+  const std::uint32_t *const cell_begin = cell_start.data(), *const item = cell_items.data();
+  const std::uint32_t* const run_owner_of = run_owner.data();
+  const double *const xs = run_x.data(), *const ys = run_y.data(), *const zs = run_z.data(), *const rs = run_r.data();
+  const double skin = skin_;
+#pragma omp parallel if (sn > parallel_threshold)
+  {
+    std::vector<std::uint32_t> buffer;  // this thread's candidates of one element
+#pragma omp for schedule(dynamic, 256)
+    for (std::ptrdiff_t si = 0; si < sn; ++si) {
+      const auto i = static_cast<std::size_t>(si);
+      std::int64_t cx, cy, cz;
+      const Vec3 p = position[i];
+      cell_of(p, cx, cy, cz);
+      const double r = radius[i];
+      const std::uint32_t own = owner[i];
+      std::size_t m = 0;
+      for (std::int64_t dz = -1; dz <= 1; ++dz) {
+        const std::int64_t z = cz + dz;
+        if (z < 0 || z >= nz) continue;
+        for (std::int64_t dy = -1; dy <= 1; ++dy) {
+          const std::int64_t y = cy + dy;
+          if (y < 0 || y >= ny) continue;
+          for (std::int64_t dx = -1; dx <= 1; ++dx) {
+            const std::int64_t x = cx + dx;
+            if (x < 0 || x >= nx) continue;
+            // A cell lists its elements in increasing index, so from its end down to the
+            // first j <= i it holds only the j > i that the half list wants (the sort below
+            // restores the order). The distance is norm2(x_j - x_i), operation for operation.
+            // Each candidate is written and kept or not without a branch (which way it goes
+            // is not predictable), into room made for the whole cell.
+            const auto c = static_cast<std::size_t>((z * ny + y) * nx + x);
+            const std::uint32_t k0 = cell_begin[c], k1 = cell_begin[c + 1];
+            if (buffer.size() < m + (k1 - k0)) buffer.resize(2 * (m + (k1 - k0)));
+            std::uint32_t* const kept = buffer.data();
+            for (std::uint32_t k = k1; k > k0; --k) {
+              const std::uint32_t j = item[k - 1];
+              if (j <= i) break;
+              const double reach = r + rs[k - 1] + skin;
+              const double ex = xs[k - 1] - p.x, ey = ys[k - 1] - p.y, ez = zs[k - 1] - p.z;
+              kept[m] = j;
+              m += (run_owner_of[k - 1] != own) & (ex * ex + ey * ey + ez * ez < reach * reach) ? 1 : 0;
+            }
           }
         }
       }
+      std::sort(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(m));
+      partners[i].assign(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(m));
     }
-    std::sort(out.begin(), out.end());
   }
 
   // --- flatten in element order, carry history over by stable pair identity --------------
-  std::vector<std::uint32_t> first, second;
-  std::vector<std::uint64_t> key;
+  std::vector<std::uint32_t> start(n + 1, 0);  // the new list's pairs of element i: [start[i], start[i + 1])
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] = start[i] + static_cast<std::uint32_t>(partners[i].size());
+  const std::size_t n_pairs = start[n];
+  std::vector<std::uint32_t> first(n_pairs), second(n_pairs);
+  std::vector<std::uint64_t> key(n_pairs);
   for (std::size_t i = 0; i < n; ++i) {
+    std::size_t p = start[i];
     for (const std::uint32_t j : partners[i]) {
-      first.push_back(static_cast<std::uint32_t>(i));
-      second.push_back(j);
-      key.push_back(pair_key(stable_id[i], stable_id[j]));
+      first[p] = static_cast<std::uint32_t>(i);
+      second[p] = j;
+      key[p++] = pair_key(stable_id[i], stable_id[j]);
     }
   }
   const auto h = static_cast<std::size_t>(history_size_);
-  std::vector<double> history(first.size() * h, 0.0);
-  if (h > 0 && !key_.empty()) {
+  std::vector<double> history(n_pairs * h, 0.0);
+  // The elements keep their indices from build to build unless something renumbered them (a
+  // spatial sort, bodies added or removed), and both lists are sorted by (i, j): then each
+  // element's old and new partners are merged in one pass. Otherwise (and after a restart,
+  // which does not keep the ids) each pair is looked up by its stable identity. Both carry
+  // the same values over.
+  const bool same_elements = h > 0 && !key_.empty() &&
+                             std::equal(stable_id.begin(), stable_id.end(), ids_at_build_.begin(), ids_at_build_.end());
+  if (same_elements) {
+    const auto sn_merge = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static) if (sn_merge > parallel_threshold)
+    for (std::ptrdiff_t si = 0; si < sn_merge; ++si) {
+      const auto i = static_cast<std::size_t>(si);
+      std::size_t o = first_start_[i];
+      const std::size_t o_end = first_start_[i + 1];
+      for (std::size_t p = start[i]; p < start[i + 1] && o < o_end; ++p) {
+        while (o < o_end && second_[o] < second[p]) ++o;
+        if (o < o_end && second_[o] == second[p]) std::copy_n(history_.data() + o * h, h, history.data() + p * h);
+      }
+    }
+  } else if (h > 0 && !key_.empty()) {
     // Only the old pairs whose history is not zero need carrying over: those in contact
     // (the others' was zeroed when their contact ended), about half the list in a packed bed
     // and few in a flow. Their keys with their slots, sorted in one contiguous array, make
@@ -126,7 +183,7 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
         carried.emplace_back(key_[o], static_cast<std::uint32_t>(o));
     }
     std::sort(carried.begin(), carried.end());
-    const auto np = static_cast<std::ptrdiff_t>(carried.empty() ? 0 : first.size());
+    const auto np = static_cast<std::ptrdiff_t>(carried.empty() ? 0 : n_pairs);
 #pragma omp parallel for schedule(static) if (np > parallel_threshold)
     for (std::ptrdiff_t sp = 0; sp < np; ++sp) {
       const auto p = static_cast<std::size_t>(sp);
@@ -136,19 +193,16 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
       }
     }
   }
+  ids_at_build_.assign(stable_id.begin(), stable_id.end());
   first_ = std::move(first);
   second_ = std::move(second);
   key_ = std::move(key);
   history_ = std::move(history);
 
   // --- pairs by first element (contiguous) and by second element (CSR) ---------------------
-  first_start_.assign(n + 1, 0);
+  first_start_ = std::move(start);
   second_start_.assign(n + 1, 0);
-  for (std::size_t p = 0; p < first_.size(); ++p) {
-    ++first_start_[first_[p] + 1];
-    ++second_start_[second_[p] + 1];
-  }
-  std::partial_sum(first_start_.begin(), first_start_.end(), first_start_.begin());
+  for (std::size_t p = 0; p < first_.size(); ++p) ++second_start_[second_[p] + 1];
   std::partial_sum(second_start_.begin(), second_start_.end(), second_start_.begin());
   as_second_.resize(first_.size());
   std::vector<std::uint32_t> fill(second_start_.begin(), second_start_.end() - 1);
@@ -184,6 +238,7 @@ void NeighborList::load(io::BinaryReader& in) {
   in.get(first_start_);
   in.get(second_start_);
   in.get(as_second_);
+  ids_at_build_.clear();  // (the next build looks the pairs up by their stable identity)
 }
 
 }  // namespace bushel

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bushel/contact/neighbor_list.hpp"
+#include "bushel/io/binary_archive.hpp"
 
 namespace bushel {
 namespace {
@@ -115,6 +116,49 @@ TEST(NeighborList, HistorySurvivesRebuildAndRenumbering) {
     }
   }
   EXPECT_GT(carried, list.pairs() / 2);
+}
+
+// Between renumberings a rebuild merges each element's old and new partners by index; after
+// a restart (or a renumbering) it looks each pair up by stable identity. Both must carry the
+// same histories, and the merge must keep exactly the pairs found again.
+TEST(NeighborList, HistoryMergedInPlaceAsByLookup) {
+  Cloud c = random_cloud(900, 13);
+  NeighborList merged(0.4e-3, 2);
+  merged.build(c.position, c.radius, c.owner, c.id);
+  std::map<std::pair<std::uint32_t, std::uint32_t>, double> tag;
+  for (std::size_t p = 0; p < merged.pairs(); ++p) {
+    const double v = (p % 3 == 0) ? 0.0 : 1.0 + static_cast<double>(p);  // some contacts ended (zero)
+    merged.history(p)[0] = v;
+    merged.history(p)[1] = 2.0 * v;
+    tag[{merged.first(p), merged.second(p)}] = v;
+  }
+  io::BinaryWriter out;
+  merged.save(out);
+  NeighborList looked_up(1.0, 0);  // restored: it does not know the ids it was built with
+  io::BinaryReader in(out.bytes(), "list");
+  looked_up.load(in);
+  // Move every element by up to a skin, so that pairs both leave the list and join it.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-0.4e-3, 0.4e-3);
+  for (Vec3& x : c.position) x += Vec3{u(rng), u(rng), u(rng)};
+  merged.build(c.position, c.radius, c.owner, c.id);
+  looked_up.build(c.position, c.radius, c.owner, c.id);
+  ASSERT_EQ(merged.pairs(), looked_up.pairs());
+  std::size_t kept = 0, joined = 0;
+  for (std::size_t p = 0; p < merged.pairs(); ++p) {
+    ASSERT_EQ(merged.first(p), looked_up.first(p));
+    ASSERT_EQ(merged.second(p), looked_up.second(p));
+    EXPECT_EQ(merged.history(p)[0], looked_up.history(p)[0]);
+    EXPECT_EQ(merged.history(p)[1], looked_up.history(p)[1]);
+    const auto it = tag.find({merged.first(p), merged.second(p)});
+    const double expected = it == tag.end() ? 0.0 : it->second;
+    EXPECT_EQ(merged.history(p)[0], expected);
+    EXPECT_EQ(merged.history(p)[1], 2.0 * expected);
+    (it == tag.end() ? joined : kept) += 1;
+  }
+  EXPECT_GT(kept, 100u);
+  EXPECT_GT(joined, 10u);
+  EXPECT_LT(kept, tag.size());  // some pairs left the list
 }
 
 TEST(NeighborList, RebuildOnlyAfterHalfTheSkin) {

@@ -81,6 +81,7 @@ class NeighborList {
   std::vector<std::uint32_t> first_start_;               // CSR over first elements
   std::vector<std::uint32_t> second_start_, as_second_;  // CSR of pair indices by second element
   std::vector<std::vector<std::uint32_t>> partners_;     // build scratch: candidates of each element
+  std::vector<std::uint32_t> ids_at_build_;              // the elements' stable ids at the last build (not saved)
 };
 
 }  // namespace bushel
