@@ -157,39 +157,38 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
   // element's old and new partners are merged in one pass. Otherwise (and after a restart,
   // which does not keep the ids) each pair is looked up by its stable identity. Both carry
   // the same values over.
-  const bool same_elements = h > 0 && !key_.empty() &&
-                             std::equal(stable_id.begin(), stable_id.end(), ids_at_build_.begin(), ids_at_build_.end());
-  if (same_elements) {
-    const auto sn_merge = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static) if (sn_merge > parallel_threshold)
-    for (std::ptrdiff_t si = 0; si < sn_merge; ++si) {
-      const auto i = static_cast<std::size_t>(si);
-      std::size_t o = first_start_[i];
-      const std::size_t o_end = first_start_[i + 1];
-      for (std::size_t p = start[i]; p < start[i + 1] && o < o_end; ++p) {
-        while (o < o_end && second_[o] < second[p]) ++o;
-        if (o < o_end && second_[o] == second[p]) std::copy_n(history_.data() + o * h, h, history.data() + p * h);
+  if (h > 0 && !key_.empty()) {
+    if (std::equal(stable_id.begin(), stable_id.end(), ids_at_build_.begin(), ids_at_build_.end())) {
+#pragma omp parallel for schedule(static) if (sn > parallel_threshold)
+      for (std::ptrdiff_t si = 0; si < sn; ++si) {
+        const auto i = static_cast<std::size_t>(si);
+        std::size_t o = first_start_[i];
+        const std::size_t o_end = first_start_[i + 1];
+        for (std::size_t p = start[i]; p < start[i + 1] && o < o_end; ++p) {
+          while (o < o_end && second_[o] < second[p]) ++o;
+          if (o < o_end && second_[o] == second[p]) std::copy_n(history_.data() + o * h, h, history.data() + p * h);
+        }
       }
-    }
-  } else if (h > 0 && !key_.empty()) {
-    // Only the old pairs whose history is not zero need carrying over: those in contact
-    // (the others' was zeroed when their contact ended), about half the list in a packed bed
-    // and few in a flow. Their keys with their slots, sorted in one contiguous array, make
-    // each new pair's lookup a binary search in a compact array.
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> carried;
-    for (std::size_t o = 0; o < key_.size(); ++o) {
-      const double* old = history_.data() + o * h;
-      if (std::any_of(old, old + h, [](double v) { return v != 0.0; }))
-        carried.emplace_back(key_[o], static_cast<std::uint32_t>(o));
-    }
-    std::sort(carried.begin(), carried.end());
-    const auto np = static_cast<std::ptrdiff_t>(carried.empty() ? 0 : n_pairs);
+    } else {
+      // Only the old pairs whose history is not zero need carrying over: those in contact
+      // (the others' was zeroed when their contact ended), about half the list in a packed
+      // bed and few in a flow. Their keys with their slots, sorted in one contiguous array,
+      // make each new pair's lookup a binary search in a compact array.
+      std::vector<std::pair<std::uint64_t, std::uint32_t>> carried;
+      for (std::size_t o = 0; o < key_.size(); ++o) {
+        const double* old = history_.data() + o * h;
+        if (std::any_of(old, old + h, [](double v) { return v != 0.0; }))
+          carried.emplace_back(key_[o], static_cast<std::uint32_t>(o));
+      }
+      std::sort(carried.begin(), carried.end());
+      const auto np = static_cast<std::ptrdiff_t>(carried.empty() ? 0 : n_pairs);
 #pragma omp parallel for schedule(static) if (np > parallel_threshold)
-    for (std::ptrdiff_t sp = 0; sp < np; ++sp) {
-      const auto p = static_cast<std::size_t>(sp);
-      const auto it = std::lower_bound(carried.begin(), carried.end(), std::pair{key[p], std::uint32_t{0}});
-      if (it != carried.end() && it->first == key[p]) {
-        std::copy_n(history_.data() + std::size_t{it->second} * h, h, history.data() + p * h);
+      for (std::ptrdiff_t sp = 0; sp < np; ++sp) {
+        const auto p = static_cast<std::size_t>(sp);
+        const auto it = std::lower_bound(carried.begin(), carried.end(), std::pair{key[p], std::uint32_t{0}});
+        if (it != carried.end() && it->first == key[p]) {
+          std::copy_n(history_.data() + std::size_t{it->second} * h, h, history.data() + p * h);
+        }
       }
     }
   }
