@@ -15,7 +15,7 @@ packages=(
   libyaml-cpp-dev libcli11-dev libeigen3-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev libopenmpi-dev openmpi-bin
   python3 python3-dev pybind11-dev python3-numpy python3-matplotlib
-  paraview
+  paraview xz-utils
 )
 
 missing=()
