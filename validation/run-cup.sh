@@ -94,6 +94,7 @@ def engine(j):
     return e["commit"][:12] + (" (uncommitted changes)" if e["uncommitted_changes"] else "")
 print("| case | bulk density [kg/m3] | struck | measured | EDEM (5s) | diff to measured | filling time [s] | heap angle [deg] | unbalanced force at rest | particles | simulated [s] | wall [h] | particle-steps/s | engine | status |")
 print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+finished = {}  # case -> bulk density [kg/m3] of a finished case
 for case in cases:
     fraction, model = case.split("-")
     path = os.path.join(kept, "cup-" + case, "summary.json")
@@ -113,10 +114,22 @@ for case in cases:
     rest = [s["values"].get("unbalanced_force") for s in j["stages"] if s["name"] == "rest"]
     unbalanced = f"{rest[0]:.2g}" if rest and rest[0] is not None else ""
     status = "interrupted at t = %.2f s (stage %d)" % (j["simulated_time_s"], len(j["stages"]) + 1) if j["interrupted"] else "done"
+    if bd and not j["interrupted"]:
+        finished[case] = bd
     print(f"| {case} | {f(bd, '.1f')} | {f(r('bulk_density_struck'), '.1f')} | {measured[fraction]} | "
           f"{edem[fraction] if model == '5s' else ''} | {diff} | {f(r('filling_time'), '.2f')} | {f(r('heap_angle'), '.1f')} | "
           f"{unbalanced} | {j['factories'][0]['count']} | {j['simulated_time_s']:.2f} | {j['wall_time_s'] / 3600:.2f} | "
           f"{j['particle_steps_per_s']:.3g} | {engine(j)} | {status} |")
+# wheat.md: the bulk density falls from large to medium to small kernels, for each model
+print()
+for model in ("5s", "1s"):
+    ladder = [finished.get(f"{fraction}-{model}") for fraction in ("large", "medium", "small")]
+    if None in ladder:
+        verdict = "not every fraction has finished"
+    else:
+        holds = ladder[0] > ladder[1] > ladder[2]
+        verdict = ("holds" if holds else "does NOT hold") + ": " + ", ".join(f"{v:.1f}" for v in ladder) + " kg/m3"
+    print(f"- order large > medium > small, {model}: {verdict}")
 EOF
 }
 
