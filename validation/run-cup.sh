@@ -73,64 +73,9 @@ if [ "${1:-}" = --park ]; then park; exit 0; fi
 cases=("$@")
 [ ${#cases[@]} -gt 0 ] || cases=("${all[@]}")
 
+# the table of every case so far and whether large > medium > small holds (validation/cup_table.py)
 table() {
-  /usr/bin/python3 - "$runs" "$kept" "$root/data/reference_values.csv" "${all[@]}" <<'EOF'
-import csv, json, os, sys
-runs, kept, references, cases = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
-# the study's lab values (any model) and EDEM results (5 spheres), as `bushel report` uses them
-rows = [r for r in csv.DictReader(l for l in open(references) if not l.startswith("#"))
-        if r["scenario"] == "calibration-cup" and r["result"] == "bulk_density"]
-measured = {r["fraction"]: float(r["value"]) for r in rows if not r["model"]}
-edem = {r["fraction"]: float(r["value"]) for r in rows if r["model"] == "5s"}
-# The unbalanced force ratio at the end of the rest stage says whether the heaped cup was
-# static when the sensor measured it (about 1e-4, wheat.md); a packing that jitters compacts.
-# The engine build that ran a case (summary.json names it since the build recorded it).
-def engine(j):
-    e = j.get("engine")
-    if not e:
-        return "(not recorded)"
-    if len(e["builds"]) > 1:
-        return "mixed: " + "; ".join(e["builds"])
-    return e["commit"][:12] + (" (uncommitted changes)" if e["uncommitted_changes"] else "")
-print("| case | bulk density [kg/m3] | struck | measured | EDEM (5s) | diff to measured | filling time [s] | heap angle [deg] | unbalanced force at rest | particles | simulated [s] | wall [h] | particle-steps/s | engine | status |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-finished = {}  # case -> bulk density [kg/m3] of a finished case
-for case in cases:
-    fraction, model = case.split("-")
-    path = os.path.join(kept, "cup-" + case, "summary.json")
-    if not os.path.exists(path):
-        path = os.path.join(runs, "cup-" + case, "summary.json")
-    if not os.path.exists(path):
-        started = any(os.path.exists(os.path.join(d, "cup-" + case, f))
-                      for d, f in ((runs, "checkpoint.bin"), (kept, "checkpoint.bin.xz")))
-        print(f"| {case} | | | {measured[fraction]} | {edem[fraction] if model == '5s' else ''} | | | | | | | | | | "
-              f"{'running or stopped (a checkpoint)' if started else 'not started'} |")
-        continue
-    j = json.load(open(path))
-    r = lambda k: (j["results"].get(k) or {}).get("value")
-    f = lambda v, fmt: format(v, fmt) if v is not None else ""
-    bd = r("bulk_density")
-    diff = f"{100 * (bd - measured[fraction]) / measured[fraction]:+.1f} %" if bd else ""
-    rest = [s["values"].get("unbalanced_force") for s in j["stages"] if s["name"] == "rest"]
-    unbalanced = f"{rest[0]:.2g}" if rest and rest[0] is not None else ""
-    status = "interrupted at t = %.2f s (stage %d)" % (j["simulated_time_s"], len(j["stages"]) + 1) if j["interrupted"] else "done"
-    if bd and not j["interrupted"]:
-        finished[case] = bd
-    print(f"| {case} | {f(bd, '.1f')} | {f(r('bulk_density_struck'), '.1f')} | {measured[fraction]} | "
-          f"{edem[fraction] if model == '5s' else ''} | {diff} | {f(r('filling_time'), '.2f')} | {f(r('heap_angle'), '.1f')} | "
-          f"{unbalanced} | {j['factories'][0]['count']} | {j['simulated_time_s']:.2f} | {j['wall_time_s'] / 3600:.2f} | "
-          f"{j['particle_steps_per_s']:.3g} | {engine(j)} | {status} |")
-# wheat.md: the bulk density falls from large to medium to small kernels, for each model
-print()
-for model in ("5s", "1s"):
-    ladder = [finished.get(f"{fraction}-{model}") for fraction in ("large", "medium", "small")]
-    if None in ladder:
-        verdict = "not every fraction has finished"
-    else:
-        holds = ladder[0] > ladder[1] > ladder[2]
-        verdict = ("holds" if holds else "does NOT hold") + ": " + ", ".join(f"{v:.1f}" for v in ladder) + " kg/m3"
-    print(f"- order large > medium > small, {model}: {verdict}")
-EOF
+  /usr/bin/python3 "$root/validation/cup_table.py" "$runs" "$kept" "$root/data/reference_values.csv" "${all[@]}"
 }
 
 for c in "${cases[@]}"; do
