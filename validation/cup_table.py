@@ -1,19 +1,26 @@
 #!/usr/bin/env python3
 """The table of the full-size calibration cup cases (validation/run-cup.sh writes it to
-validation/results/cup.md): each case's results beside the study's lab value and EDEM result
-(data/reference_values.csv), and per particle model whether the bulk density falls from large
-to medium to small kernels, as wheat.md requires.
+validation/results/cup.md and into validation/README.md): each case's results beside the
+study's lab value and EDEM result (data/reference_values.csv), how far an unfinished case has
+got, and per particle model whether the bulk density falls from large to medium to small
+kernels, as wheat.md requires.
 
-usage: cup_table.py RUNS KEPT REFERENCES CASE...
-  RUNS        the run folders (runs/validation): cup-CASE/ with summary.json or checkpoint.bin
-  KEPT        the kept results (validation/results/cup-runs): cup-CASE/summary.json of finished
-              cases, cup-CASE/checkpoint.bin.xz of parked ones; read before RUNS
-  REFERENCES  data/reference_values.csv
-  CASE        FRACTION-MODEL, e.g. large-5s
+usage: cup_table.py [--readme FILE] RUNS KEPT REFERENCES CASE...
+  --readme FILE  also put the table into FILE, between the lines
+                 <!-- cup_table.py: begin --> and <!-- cup_table.py: end -->
+  RUNS           the run folders (runs/validation): cup-CASE/ with summary.json, or with
+                 checkpoint.bin and timeseries.csv while it runs
+  KEPT           the kept results (validation/results/cup-runs): cup-CASE/summary.json of
+                 finished cases, cup-CASE/checkpoint.bin.xz and timeseries.csv.xz of parked
+                 ones; a kept summary is read before the run folder's
+  REFERENCES     data/reference_values.csv
+  CASE           FRACTION-MODEL, e.g. large-5s
 """
 import csv
 import json
+import lzma
 import os
+import re
 import sys
 
 FRACTIONS = ("large", "medium", "small")  # wheat.md: bulk density falls in this order
@@ -31,17 +38,55 @@ def references(path):
 
 
 def engine(summary):
-    """The engine build that ran a case (summary.json names it since the build recorded it)."""
+    """The engine builds that ran a case, oldest first, as short commits (summary.json names
+    them since the build recorded it)."""
     e = summary.get("engine")
     if not e:
         return "(not recorded)"
-    if len(e["builds"]) > 1:
-        return "mixed: " + "; ".join(e["builds"])
-    return e["commit"][:12] + (" (uncommitted changes)" if e["uncommitted_changes"] else "")
+    commits = []
+    for b in e["builds"]:
+        m = re.search(r"commit (\w+)(, uncommitted changes)?", b)
+        commits.append(m.group(1)[:7] + (" (uncommitted changes)" if m.group(2) else "") if m else b)
+    return commits[0] if len(commits) == 1 else ", ".join(commits[:-1]) + ", then " + commits[-1]
+
+
+def reached(series, opener=open):
+    """'t = T s (STAGE)' of a time series' last row, or None without one: how far an unfinished
+    case has got (the series may run a little ahead of its checkpoint)."""
+    if not os.path.exists(series):
+        return None
+    last = None
+    with opener(series, "rt") as f:
+        for last in f:
+            pass
+    cells = last.strip().split(",") if last else []
+    if len(cells) < 2 or cells[0] == "stage":
+        return None
+    return f"t = {float(cells[1]):.2f} s ({cells[0]})"
+
+
+def progress(runs, kept, case):
+    """The status of a case without a summary: where its run folder and its parked checkpoint
+    have got."""
+    run, parked = os.path.join(runs, "cup-" + case), os.path.join(kept, "cup-" + case)
+    states = []
+    if os.path.exists(os.path.join(run, "checkpoint.bin")):
+        at = reached(os.path.join(run, "timeseries.csv"))
+        states.append("running or stopped " + (f"at {at}" if at else "(a checkpoint)"))
+    if os.path.exists(os.path.join(parked, "checkpoint.bin.xz")):
+        at = reached(os.path.join(parked, "timeseries.csv.xz"), lzma.open)
+        states.append("parked" + (f" at {at}" if at else ""))
+    return "; ".join(states) or "not started"
 
 
 def fmt(value, spec):
     return format(value, spec) if value is not None else ""
+
+
+def exponent(value, digits=3):
+    """VALUE to DIGITS significant digits in the form 8.22e5."""
+    mantissa, power = f"{value:.{digits - 1}e}".split("e")
+    return f"{mantissa}e{int(power)}"
 
 
 def order_line(model, finished):
@@ -72,10 +117,7 @@ def table(runs, kept, reference_csv, cases):
         if not os.path.exists(path):
             path = os.path.join(runs, "cup-" + case, "summary.json")
         if not os.path.exists(path):
-            started = any(os.path.exists(os.path.join(d, "cup-" + case, f))
-                          for d, f in ((runs, "checkpoint.bin"), (kept, "checkpoint.bin.xz")))
-            status = "running or stopped (a checkpoint)" if started else "not started"
-            lines.append(f"| {case} | | | {reference} | | | | | | | | | | {status} |")
+            lines.append(f"| {case} | | | {reference} | | | | | | | | | | {progress(runs, kept, case)} |")
             continue
         with open(path) as f:
             j = json.load(f)
@@ -86,7 +128,7 @@ def table(runs, kept, reference_csv, cases):
         # was static when the sensor measured it (about 1e-4, wheat.md); a jittering packing
         # compacts.
         rest = [s["values"].get("unbalanced_force") for s in j["stages"] if s["name"] == "rest"]
-        unbalanced = f"{rest[0]:.2g}" if rest and rest[0] is not None else ""
+        unbalanced = exponent(rest[0], 2) if rest and rest[0] is not None else ""
         if j["interrupted"]:
             status = "interrupted at t = %.2f s (stage %d)" % (j["simulated_time_s"], len(j["stages"]) + 1)
         else:
@@ -96,14 +138,34 @@ def table(runs, kept, reference_csv, cases):
         lines.append(
             f"| {case} | {fmt(bd, '.1f')} | {fmt(result('bulk_density_struck'), '.1f')} | {reference} | {diff} "
             f"| {fmt(result('filling_time'), '.2f')} | {fmt(result('heap_angle'), '.1f')} | {unbalanced} "
-            f"| {j['factories'][0]['count']} | {j['simulated_time_s']:.2f} | {j['wall_time_s'] / 3600:.2f} "
-            f"| {j['particle_steps_per_s']:.3g} | {engine(j)} | {status} |")
+            f"| {j['factories'][0]['count']:,} | {j['simulated_time_s']:.2f} | {j['wall_time_s'] / 3600:.2f} "
+            f"| {exponent(j['particle_steps_per_s'])} | {engine(j)} | {status} |")
     lines.append("")
     lines += [order_line(model, finished) for model in ("5s", "1s")]
     return "\n".join(lines)
 
 
+def splice(readme, text):
+    """Puts TEXT between README's begin and end lines, written atomically."""
+    begin, end = "<!-- cup_table.py: begin -->", "<!-- cup_table.py: end -->"
+    with open(readme) as f:
+        lines = f.read().split("\n")
+    if lines.count(begin) != 1 or lines.count(end) != 1 or lines.index(begin) > lines.index(end):
+        sys.exit(f"{readme}: expected one line '{begin}' and, after it, one line '{end}'")
+    lines[lines.index(begin) + 1:lines.index(end)] = text.split("\n")
+    with open(readme + ".tmp", "w") as f:
+        f.write("\n".join(lines))
+    os.replace(readme + ".tmp", readme)
+
+
 if __name__ == "__main__":
-    if len(sys.argv) < 5:
+    args = sys.argv[1:]
+    readme = None
+    if args[:1] == ["--readme"] and len(args) > 1:
+        readme, args = args[1], args[2:]
+    if len(args) < 4:
         sys.exit(__doc__.strip())
-    print(table(sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]))
+    text = table(*args[:3], args[3:])
+    if readme:
+        splice(readme, text)
+    print(text)
