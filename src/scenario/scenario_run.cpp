@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 
@@ -322,15 +323,40 @@ constexpr double jitter_unbalanced_force = 0.2;
 // The progress line's steps/s and ETA are over this much of the latest wall time [s].
 constexpr double progress_window = 300.0;
 
-// The largest overlap over the smaller radius at the end of the finished stage `name` (its
-// value max_overlap_ratio then), or 0 if it is not among them.
-double end_overlap(const std::vector<StageReport>& done, const std::string& name) {
-  for (const StageReport& r : done) {
-    if (r.name != name) continue;
-    for (const auto& [value, v] : r.values)
-      if (value == "max_overlap_ratio") return v;
-  }
+// The value `value` at the end of the stage `r`, or 0 if it is not among its values.
+double end_value(const StageReport& r, const std::string& value) {
+  for (const auto& [name, v] : r.values)
+    if (name == value) return v;
   return 0.0;
+}
+
+// The largest overlap over the smaller radius at the end of the finished stage `name`, or 0.
+double end_overlap(const std::vector<StageReport>& done, const std::string& name) {
+  for (const StageReport& r : done)
+    if (r.name == name) return end_value(r, "max_overlap_ratio");
+  return 0.0;
+}
+
+// The warning for `count` particles of `mass` [kg] that left the domain, with the stages they
+// left in (from the rise of lost_count over each finished stage), so that a reader can tell
+// kernels lost before a measurement from those lost after it.
+std::string lost_warning(std::size_t count, double mass, const std::vector<StageReport>& done) {
+  std::vector<std::pair<std::string, std::size_t>> in;  // stage, particles lost in it
+  std::size_t before = 0;
+  for (const StageReport& r : done) {
+    const auto after = static_cast<std::size_t>(end_value(r, "lost_count"));
+    if (after > before) in.emplace_back(r.name, after - before);
+    before = std::max(before, after);
+  }
+  std::string where;  // none when the stages' counts do not add up to it (not all recorded)
+  if (before == count && in.size() == 1) {
+    where = fmt::format(", {}in stage '{}'", count == 1 ? "" : "all ", in.front().first);
+  } else if (before == count) {
+    where = ":";
+    for (std::size_t k = 0; k < in.size(); ++k)
+      where += fmt::format("{} {} in '{}'", k == 0 ? "" : ",", in[k].second, in[k].first);
+  }
+  return fmt::format("{} particle{} ({:.3g} g) left the domain{}", count, count == 1 ? "" : "s", 1e3 * mass, where);
 }
 
 // One warning for the stages whose deepest overlap passed overlap_warning_ratio. It says
@@ -731,8 +757,10 @@ class Runner {
                                               f.spec().total, f.spec().total_by_mass ? " kg" : " particles"));
       }
       std::size_t lost = 0;
+      double lost_mass = 0.0;
       for (const auto c : st_.lost.count) lost += c;
-      if (lost > 0) report.warnings.push_back(fmt::format("{} particles left the domain", lost));
+      for (const double m : st_.lost.mass) lost_mass += m;
+      if (lost > 0) report.warnings.push_back(lost_warning(lost, lost_mass, report.stages));
     }
     write_summary(report);
     return report;
