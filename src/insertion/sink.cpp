@@ -1,6 +1,12 @@
 #include "bushel/insertion/sink.hpp"
 
+#include <numeric>
+
 namespace bushel {
+
+std::size_t Sink::total_count() const { return std::accumulate(count.begin(), count.end(), std::size_t{0}); }
+
+double Sink::total_mass() const { return std::accumulate(mass.begin(), mass.end(), 0.0); }
 
 std::size_t apply_sinks(Simulation& sim, std::vector<Sink>& sinks, const Region& domain, Sink& lost) {
   const ParticleSystem& ps = sim.particles();

@@ -84,14 +84,12 @@ struct RunState {
     const ParticleSystem& ps = sim.particles();
     std::vector<double> v;
     v.reserve(names.size());
-    double potential = 0.0, created = 0.0, removed = 0.0, lost_mass = 0.0, lost_count = 0.0;
+    double potential = 0.0, created = 0.0, removed = 0.0;
     for (std::size_t b = 0; b < ps.bodies(); ++b) potential -= ps.mass[b] * dot(sc.settings.gravity, ps.position[b]);
     for (const auto& f : factories) created += f.report().total_mass;
     for (const auto& s : sinks) {
       for (const double m : s.mass) removed += m;
     }
-    for (std::size_t k = 0; k < lost.mass.size(); ++k)
-      lost_mass += lost.mass[k], lost_count += static_cast<double>(lost.count[k]);
     const double ke = ps.kinetic_energy();
     const auto n = static_cast<double>(ps.bodies());
     v = {sim.time(),
@@ -104,8 +102,8 @@ struct RunState {
          static_cast<double>(sim.contacts()),
          created,
          removed,
-         lost_mass,
-         lost_count};
+         lost.total_mass(),
+         static_cast<double>(lost.total_count())};
     return v;
   }
 
@@ -756,11 +754,8 @@ class Runner {
         report.warnings.push_back(fmt::format("factory '{}' created {:.4g} of its total {:.4g}{}", f.spec().name, made,
                                               f.spec().total, f.spec().total_by_mass ? " kg" : " particles"));
       }
-      std::size_t lost = 0;
-      double lost_mass = 0.0;
-      for (const auto c : st_.lost.count) lost += c;
-      for (const double m : st_.lost.mass) lost_mass += m;
-      if (lost > 0) report.warnings.push_back(lost_warning(lost, lost_mass, report.stages));
+      if (st_.lost.total_count() > 0)
+        report.warnings.push_back(lost_warning(st_.lost.total_count(), st_.lost.total_mass(), report.stages));
     }
     write_summary(report);
     return report;
@@ -869,14 +864,10 @@ class Runner {
     j["factories"] = factories;
     auto sink_json = [&](const Sink& k) {
       nlohmann::ordered_json types = nlohmann::ordered_json::object();
-      std::size_t count = 0;
-      double mass = 0.0;
-      for (std::size_t t = 0; t < k.count.size(); ++t) {
+      for (std::size_t t = 0; t < k.count.size(); ++t)
         types[st_.type_names[t]] = {{"count", k.count[t]}, {"mass_kg", k.mass[t]}};
-        count += k.count[t];
-        mass += k.mass[t];
-      }
-      return nlohmann::ordered_json{{"name", k.name}, {"count", count}, {"mass_kg", mass}, {"types", types}};
+      return nlohmann::ordered_json{
+          {"name", k.name}, {"count", k.total_count()}, {"mass_kg", k.total_mass()}, {"types", types}};
     };
     nlohmann::ordered_json sinks = nlohmann::ordered_json::array();
     for (const auto& k : st_.sinks) sinks.push_back(sink_json(k));

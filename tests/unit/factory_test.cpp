@@ -166,6 +166,8 @@ TEST(Sinks, RemoveAndCountByTypeWhileTheRestKeepsItsContactHistory) {
   EXPECT_EQ(sinks[0].count.at(0), expected);
   EXPECT_NEAR(sinks[0].mass.at(0), expected_mass, 1e-15);
   EXPECT_EQ(lost.count.at(0), 0u);
+  EXPECT_EQ(sinks[0].total_count(), expected);
+  EXPECT_NEAR(sinks[0].total_mass(), expected_mass, 1e-15);
   const auto after = histories();
   std::size_t kept = 0;
   for (const auto& [pair, h] : before) {
@@ -179,8 +181,19 @@ TEST(Sinks, RemoveAndCountByTypeWhileTheRestKeepsItsContactHistory) {
   EXPECT_EQ(sim.particles().bodies(), 300 - expected);
   // a particle thrown out of the domain is lost
   sim.particles().position[0] = {0, 0, 1.0};
+  const double thrown = sim.particles().mass[0];
   apply_sinks(sim, sinks, domain, lost);
   EXPECT_EQ(lost.count.at(0), 1u);
+  EXPECT_EQ(lost.total_count(), 1u);
+  EXPECT_EQ(lost.total_mass(), thrown);
+}
+
+TEST(Sink, TotalsAddEveryType) {
+  const Sink s{"under", {}, true, {2, 0, 3}, {0.125, 0.0, 0.25}};
+  EXPECT_EQ(s.total_count(), 5u);
+  EXPECT_EQ(s.total_mass(), 0.375);
+  EXPECT_EQ((Sink{"none", {}, true, {}, {}}.total_count()), 0u);
+  EXPECT_EQ((Sink{"none", {}, true, {}, {}}.total_mass()), 0.0);
 }
 
 }  // namespace

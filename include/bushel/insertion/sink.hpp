@@ -18,6 +18,9 @@ struct Sink {
   bool enabled = true;
   std::vector<std::size_t> count;  ///< removed, per particle type of the simulation
   std::vector<double> mass;        ///< [kg] per type
+
+  std::size_t total_count() const;  ///< removed, all types together
+  double total_mass() const;        ///< [kg] removed, all types together (summed in type order)
 };
 
 /// Removes the bodies inside enabled sinks (counted by the first sink that holds them) and
