@@ -1,8 +1,12 @@
 #include "bushel/io/csv.hpp"
 
 #include <algorithm>
+#include <array>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include <fmt/format.h>
 
 #include "bushel/core/did_you_mean.hpp"
 #include "bushel/core/input_error.hpp"
@@ -60,12 +64,26 @@ CsvTable CsvTable::parse(std::string_view text, std::string source) {
   return table;
 }
 
-std::string read_text_file(const std::string& path) {
+std::string read_text_file(const std::string& path, std::size_t limit) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError("expected a file, this is a folder").at(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open the file for reading").at(path);
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
+  // In blocks up to the limit, so that a device or pipe that never ends is an error, not an
+  // exhausted memory.
+  std::string text;
+  std::array<char, 1 << 16> block{};
+  while (in) {
+    in.read(block.data(), block.size());
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (text.size() + got > limit) {
+      const std::string most = limit >= (1u << 20) ? fmt::format("{} MiB", limit >> 20) : fmt::format("{} bytes", limit);
+      throw InputError("the file is larger than bushel reads (" + most + " at most)").at(path);
+    }
+    text.append(block.data(), got);
+  }
+  if (in.bad()) throw InputError("cannot read the file").at(path);
+  return text;
 }
 
 CsvTable CsvTable::read(const std::string& path) { return parse(read_text_file(path), path); }

@@ -228,6 +228,43 @@ std::pair<Vec3, Vec3> part_bounds(const Part& part) {
 
 // `parent`'s time_step, "20 us" or "0.2 rayleigh" (of the smallest element's Rayleigh step):
 // [s]. `fraction` is set to the Rayleigh fraction if given so, else 0.
+// simulation: guards: each limit a fraction or quantity in its range (run_guards.hpp).
+RunGuards read_guards(const ScenarioNode& g) {
+  g.allow_only({"max_overlap", "overlap_time", "max_speed", "max_travel", "max_lost", "max_steps"});
+  RunGuards r;
+  auto fraction = [&](const char* key, double fallback, double hi) {
+    if (!g.has(key)) return fallback;
+    const double v = g.at(key).quantity(dim::dimensionless);
+    if (!(v > 0.0 && v <= hi)) throw g.at(key).error(fmt::format("expected a fraction in (0, {:g}], e.g. 50%", hi));
+    return v;
+  };
+  r.max_overlap = fraction("max_overlap", r.max_overlap, 1.0);
+  r.max_travel = fraction("max_travel", r.max_travel, 1.0);
+  r.max_lost = fraction("max_lost", r.max_lost, 1.0);
+  r.overlap_time = g.positive_or("overlap_time", dim::time, r.overlap_time);
+  r.max_speed = g.positive_or("max_speed", dim::velocity, r.max_speed);
+  if (g.has("max_steps")) r.max_steps = static_cast<double>(g.at("max_steps").integer(1, 1L << 50));
+  return r;
+}
+
+// The stages' time limits against their time steps: a step far too short for the run (a
+// template sphere of 1e-300 mm) would make a run that never ends.
+void check_step_count(const Scenario& sc, const ScenarioNode& stages) {
+  double steps = 0.0;
+  for (const StageSpec& s : sc.stages) {
+    if (!s.enabled) continue;
+    const double limit = s.duration ? std::min(*s.duration, s.max_time) : s.max_time;
+    steps += limit / s.dt.value_or(sc.settings.dt);
+  }
+  if (!(steps <= sc.guards.max_steps)) {
+    throw stages.error(fmt::format(
+        "the stages' time limits need up to {:.3g} steps of {:.3g} s, more than the guard's {:.3g} "
+        "(simulation.guards.max_steps): a time step far too short for the run (a particle far too small?) or "
+        "a time limit far too long",
+        steps, sc.settings.dt, sc.guards.max_steps));
+  }
+}
+
 double read_time_step(const ScenarioNode& parent, double rayleigh_step, double& fraction) {
   const ScenarioNode ts = parent.at("time_step");
   const std::string text = ts.text();
@@ -379,7 +416,7 @@ Scenario read_scenario(ScenarioDocument document) {
   // --- simulation ---------------------------------------------------------------------------
   const ScenarioNode sim = root.at("simulation");
   sim.allow_only({"time_step", "gravity", "integrator", "rolling", "skin", "domain", "seed", "threads",
-                  "check_interval", "tangential_damping_limit"});
+                  "check_interval", "tangential_damping_limit", "guards"});
   SimulationSettings& st = sc.settings;
   st.gravity = sim.vector_or("gravity", dim::acceleration, {0, 0, -9.81});
   if (sim.has("integrator")) {
@@ -402,6 +439,7 @@ Scenario read_scenario(ScenarioDocument document) {
   const std::uint64_t seed = sim.has("seed") ? static_cast<std::uint64_t>(sim.at("seed").integer(0, 1L << 40)) : 1;
   sc.threads = sim.has("threads") ? static_cast<int>(sim.at("threads").integer(0, 1024)) : 0;
   sc.check_interval = sim.positive_or("check_interval", dim::time, 1e-3);
+  if (const auto g = sim.find("guards")) sc.guards = read_guards(*g);
   {
     const ScenarioNode d = sim.at("domain");
     d.allow_only({"min", "max"});
@@ -719,6 +757,7 @@ Scenario read_scenario(ScenarioDocument document) {
   }
   if (std::none_of(sc.stages.begin(), sc.stages.end(), [](const StageSpec& x) { return x.enabled; }))
     throw root.at("stages").error("expected at least one stage that is not skipped (enabled: false)");
+  check_step_count(sc, root.at("stages"));
 
   // --- results --------------------------------------------------------------------------------
   if (const auto rs = root.find("results")) {

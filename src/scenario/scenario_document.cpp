@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
-#include <fstream>
-#include <sstream>
 
 #include <fmt/format.h>
 
 #include "bushel/core/did_you_mean.hpp"
 #include "bushel/core/input_error.hpp"
+#include "bushel/io/csv.hpp"
+#include "bushel/scenario/yaml_structure.hpp"
 #include "bushel/units/expression.hpp"
 
 namespace bushel {
@@ -32,6 +32,12 @@ std::vector<std::string> keys_of(const YAML::Node& map) {
   std::vector<std::string> keys;
   for (const auto& kv : map) keys.push_back(kv.first.as<std::string>());
   return keys;
+}
+
+std::string join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out.empty() ? "none" : out;
 }
 
 // The list index a segment names, or -1 if it is not a whole number.
@@ -68,6 +74,12 @@ void apply(YAML::Node root, const Override& o) {
       if (!node[seg] && !last) throw fail(walked + " has no key '" + seg + "'" + did_you_mean(seg, keys_of(node)));
       exists = static_cast<bool>(node[seg]);
       if (exists) child.reset(node[seg]);
+      // A new key elsewhere meets read_scenario's check of known keys; a parameter nobody
+      // declared would be used nowhere, and the run would silently keep the default.
+      if (!exists && s == 1 && segments[0] == "parameters") {
+        throw fail("the scenario declares no parameter '" + seg + "'" + did_you_mean(seg, keys_of(node)) +
+                   "; it declares: " + join(keys_of(node)));
+      }
     } else {
       throw fail(walked + " is a single value; it has no '" + seg + "'");
     }
@@ -94,10 +106,8 @@ void apply(YAML::Node root, const Override& o) {
 std::string expand(const std::string& inside, const std::map<std::string, std::string>& parameters,
                    const std::vector<std::string>& names) {
   auto unknown = [&](const std::string& name) {
-    std::string declared;
-    for (const auto& n : names) declared += (declared.empty() ? "" : ", ") + n;
     return InputError("unknown parameter '" + name + "'" + did_you_mean(name, names) +
-                      "; the parameters: section declares " + (declared.empty() ? "none" : declared));
+                      "; the parameters: section declares " + join(names));
   };
   std::string bare = inside;
   while (!bare.empty() && bare.front() == ' ') bare.erase(bare.begin());
@@ -180,6 +190,10 @@ int line_of(const YAML::Node& node) {
 ScenarioDocument parse_scenario_document(const std::string& text, const std::string& source,
                                          std::span<const Override> overrides) {
   ScenarioDocument doc{source, {}, {overrides.begin(), overrides.end()}, {}};
+  if (text.size() > max_scenario_bytes) {
+    throw InputError(fmt::format("a scenario file is at most {} MiB", max_scenario_bytes >> 20)).at(source);
+  }
+  check_yaml_structure(text, source);
   try {
     doc.root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
@@ -213,11 +227,7 @@ ScenarioDocument parse_scenario_document(const std::string& text, const std::str
 }
 
 ScenarioDocument load_scenario_document(const std::string& path, std::span<const Override> overrides) {
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot read the scenario file").at(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_scenario_document(text.str(), path, overrides);
+  return parse_scenario_document(io::read_text_file(path, max_scenario_bytes), path, overrides);
 }
 
 }  // namespace bushel

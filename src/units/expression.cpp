@@ -15,8 +15,17 @@ namespace {
 bool name_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0 || c == '_'; }
 bool name_char(char c) { return name_start(c) || std::isdigit(static_cast<unsigned char>(c)) != 0 || c == '.'; }
 
-Dimension times(Dimension a, Dimension b, int sign) {
-  return {a.length + sign * b.length, a.mass + sign * b.mass, a.time + sign * b.time, a.angle + sign * b.angle};
+// Limits that keep a hostile or mistyped expression from exhausting the stack or overflowing
+// an exponent: no scenario needs more than a few levels of parentheses or a unit to the 4th.
+constexpr int max_depth = 64;          // nested parentheses, functions and unary minuses
+constexpr int max_exponent = 32;       // of any base dimension, e.g. m^32
+constexpr std::size_t max_length = 4096;  // characters of one expression
+constexpr std::size_t quoted_length = 60;  // characters of it that an error message quotes
+
+// The text as an error message quotes it: whole when short, else its start and "...".
+std::string quoted(std::string_view text) {
+  if (text.size() <= quoted_length) return std::string(text);
+  return fmt::format("{}... ({} characters)", text.substr(0, quoted_length), text.size());
 }
 
 // A recursive-descent parser that evaluates as it goes.
@@ -25,16 +34,35 @@ class Parser {
   Parser(std::string_view text, const NameLookup& lookup) : s_(text), lookup_(lookup) {}
 
   Quantity run() {
+    if (s_.size() > max_length) fail(fmt::format("longer than {} characters", max_length));
     const Quantity q = sum();
     skip();
-    if (at_ < s_.size()) fail(fmt::format("unexpected '{}'", s_.substr(at_)));
+    if (at_ < s_.size()) fail(fmt::format("unexpected '{}'", quoted(s_.substr(at_))));
     if (!std::isfinite(q.value)) fail("the result is not a finite number");
     return q;
   }
 
  private:
   [[noreturn]] void fail(const std::string& why) const {
-    throw InputError(fmt::format("in the expression '{}': {}", s_, why));
+    throw InputError(fmt::format("in the expression '{}': {}", quoted(s_), why));
+  }
+  // One level deeper into the grammar, for as long as the returned guard lives.
+  struct Deeper {
+    explicit Deeper(Parser& p) : p_(p) {
+      if (++p_.depth_ > max_depth) p_.fail(fmt::format("nested more than {} levels deep", max_depth));
+    }
+    ~Deeper() { --p_.depth_; }
+    Deeper(const Deeper&) = delete;
+    Deeper& operator=(const Deeper&) = delete;
+    Parser& p_;
+  };
+  Dimension times(Dimension a, Dimension b, int sign) const {
+    const Dimension d{a.length + sign * b.length, a.mass + sign * b.mass, a.time + sign * b.time,
+                      a.angle + sign * b.angle};
+    for (const int e : {d.length, d.mass, d.time, d.angle}) {
+      if (e > max_exponent || e < -max_exponent) fail(fmt::format("a unit to a power beyond {}", max_exponent));
+    }
+    return d;
   }
   void skip() {
     while (at_ < s_.size() && (s_[at_] == ' ' || s_[at_] == '\t')) ++at_;
@@ -73,6 +101,7 @@ class Parser {
 
   Quantity unary() {
     if (eat('-')) {
+      const Deeper guard(*this);
       Quantity q = unary();
       q.value = -q.value;
       return q;
@@ -84,17 +113,19 @@ class Parser {
     skip();
     if (at_ >= s_.size()) fail("it ends where a value was expected");
     if (eat('(')) {
+      const Deeper guard(*this);
       const Quantity q = sum();
       if (!eat(')')) fail("a '(' without its ')'");
       return q;
     }
     const char c = s_[at_];
     if (std::isdigit(static_cast<unsigned char>(c)) != 0 || c == '.') return number();
-    if (!name_start(c)) fail(fmt::format("unexpected '{}'", s_.substr(at_)));
+    if (!name_start(c)) fail(fmt::format("unexpected '{}'", quoted(s_.substr(at_))));
     const std::size_t start = at_;
     while (at_ < s_.size() && name_char(s_[at_])) ++at_;
     const std::string name(s_.substr(start, at_ - start));
     if (eat('(')) {
+      const Deeper guard(*this);
       const Quantity arg = sum();
       if (!eat(')')) fail("a '(' without its ')'");
       return function(name, arg);
@@ -111,7 +142,7 @@ class Parser {
   Quantity number() {
     double v = 0.0;
     const auto [end, ec] = std::from_chars(s_.data() + at_, s_.data() + s_.size(), v);
-    if (ec != std::errc{}) fail(fmt::format("'{}' is not a number", s_.substr(at_)));
+    if (ec != std::errc{}) fail(fmt::format("'{}' is not a number", quoted(s_.substr(at_))));
     at_ = static_cast<std::size_t>(end - s_.data());
     const std::size_t before = at_;
     skip();
@@ -152,6 +183,7 @@ class Parser {
   std::string_view s_;
   const NameLookup& lookup_;
   std::size_t at_ = 0;
+  int depth_ = 0;
 };
 
 }  // namespace
@@ -165,7 +197,7 @@ Quantity parse_quantity(std::string_view text) {
   try {
     return evaluate(text, none);
   } catch (const InputError&) {
-    throw InputError("expected a number with an optional unit, got '" + std::string(text) + "'");
+    throw InputError("expected a number with an optional unit, got '" + quoted(text) + "'");
   }
 }
 

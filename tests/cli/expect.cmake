@@ -3,6 +3,9 @@
 # EXIT may be "nonzero". MATCH is searched in stdout+stderr. Errors must be one line.
 execute_process(COMMAND ${COMMAND} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 set(all "${out}${err}")
+if(NOT rc MATCHES "^[0-9]+$")
+  message(FATAL_ERROR "expected an exit code, the program crashed: ${rc}\n${all}")
+endif()
 if(EXIT STREQUAL "nonzero")
   if(rc EQUAL 0)
     message(FATAL_ERROR "expected a non-zero exit, got 0\n${all}")

@@ -3,14 +3,20 @@
 // published data): a header row, then rows of fields. Every row keeps its line number so
 // that errors point at the place in the file.
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace bushel::io {
 
-/// The whole content of a file; throws InputError naming the path if it cannot be read.
-std::string read_text_file(const std::string& path);
+/// The most bytes `read_text_file` reads unless told otherwise: 1 GiB, above any mesh or
+/// table bushel reads, below what would exhaust a machine's memory.
+inline constexpr std::size_t max_file_bytes = std::size_t{1} << 30;
+
+/// The whole content of a file; throws InputError naming the path if it cannot be read, is
+/// a folder, or holds more than `limit` bytes (a device such as /dev/zero never ends).
+std::string read_text_file(const std::string& path, std::size_t limit = max_file_bytes);
 
 struct CsvRow {
   int line = 0;                     ///< 1-based line number in the source

@@ -17,6 +17,7 @@
 #include "bushel/geometry/region.hpp"
 #include "bushel/insertion/factory.hpp"
 #include "bushel/integrate/simulation.hpp"
+#include "bushel/scenario/run_guards.hpp"
 #include "bushel/scenario/scenario_document.hpp"
 #include "bushel/units/expression.hpp"
 
@@ -104,7 +105,8 @@ struct Scenario {
   std::vector<StageSpec> stages;
   OutputSpec outputs;
   std::vector<ResultSpec> results;
-  double check_interval = 1e-3;  ///< factories, sinks and stage conditions act this often [s]
+  double check_interval = 1e-3;  ///< factories, sinks, stage conditions and guards act this often [s]
+  RunGuards guards;              ///< limits that stop a run gone wrong
   int threads = 0;               ///< 0 = OpenMP's default
   /// Every value the run can report: globals, then each sensor's ("cup.bulk_density").
   std::vector<std::string> value_names() const;

@@ -10,6 +10,7 @@
 //   factories:
 //     - mass: ${scale} kg  # -> "1 kg", or "0.1 kg" after --set parameters.scale=0.1
 
+#include <cstddef>
 #include <map>
 #include <span>
 #include <string>
@@ -30,6 +31,9 @@ struct Override {
 /// Parses "path=value" (text after the first '='); throws InputError for a missing '=', an
 /// empty path or an empty segment.
 Override parse_override(std::string_view text);
+
+/// The largest scenario file bushel reads [bytes]; shipped ones are under 16 KiB.
+inline constexpr std::size_t max_scenario_bytes = std::size_t{16} << 20;
 
 /// A scenario file with its overrides applied and its parameters substituted.
 struct ScenarioDocument {
