@@ -12,7 +12,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # One list, kept in step with ARCHITECTURE.md ("Dependencies").
 packages=(
   build-essential cmake ninja-build pkg-config git
-  libyaml-cpp-dev libcli11-dev libeigen3-dev nlohmann-json3-dev libfmt-dev
+  libyaml-cpp-dev libcli11-dev libeigen3-dev nlohmann-json3-dev libfmt-dev libxxhash-dev
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev libopenmpi-dev openmpi-bin
   python3 python3-dev pybind11-dev python3-numpy python3-matplotlib
   paraview xz-utils

@@ -52,7 +52,7 @@ def run(bushel, name, out):
     if os.path.exists(summary) and not json.load(open(summary))["interrupted"]:
         print(f"{name}: done before, kept", flush=True)
         return json.load(open(summary))
-    args = [bushel, "run", os.path.join(ROOT, "scenarios", scenario), "--out", target, "--quiet",
+    args = [bushel, "run", os.path.join(ROOT, "scenarios", scenario), "--out", target, "--quiet", "--overwrite",
             "--set", "parameters.frame_interval=1s"]
     if os.path.exists(os.path.join(target, "checkpoint.bin")):
         args = [bushel, "run", "--restart", target, "--quiet"]

@@ -38,7 +38,7 @@ run_or_resume() {
     "$bushel" run --restart "$dir" ${options[@]+"${options[@]}"} || rc=$?
   else
     echo "$label: starting: bushel run $scenario --out $dir $*" >&2
-    "$bushel" run "$scenario" --out "$dir" "$@" || rc=$?
+    "$bushel" run "$scenario" --out "$dir" --overwrite "$@" || rc=$?
   fi
   exec {lock}>&-
   return "$rc"

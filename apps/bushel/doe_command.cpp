@@ -440,7 +440,7 @@ std::vector<std::string> scenario_command(const DoeOptions& o, const std::vector
     }
   }
   for (const std::string& f : factors) (void)design.column(f);  // each is a column of the design
-  std::vector<std::string> command = {"{bushel}", "run", o.scenario, "--out", "{run_dir}", "--quiet", "--json"};
+  std::vector<std::string> command = {"{bushel}", "run", o.scenario, "--out", "{run_dir}", "--overwrite", "--quiet", "--json"};
   for (const std::string& s : o.sets) command.insert(command.end(), {"--set", s});
   for (const std::string& f : factors) command.insert(command.end(), {"--set", "parameters." + f + "={" + f + "}"});
 

@@ -23,6 +23,7 @@ struct RunCommandOptions {
   double checkpoint_minutes = 5.0;
   bool quiet = false;
   bool json = false;
+  bool overwrite = false;
 };
 
 Scenario load(const RunCommandOptions& o) {
@@ -71,6 +72,9 @@ void add_run_command(CLI::App& app) {
   run->add_option("--stop-at", o->stop_at,
                   "Stop at this simulated time (e.g. 0.5s) as Ctrl-C would: checkpoint written, continue with "
                   "--restart");
+  run->add_flag("--overwrite", o->overwrite,
+                "Replace the outputs of another run in --out (they are removed first); without it such a folder "
+                "is refused");
   run->add_flag("--quiet", o->quiet, "No progress lines");
   run->add_flag("--json", o->json,
                 "At the end print the results as JSON (values in SI, angles in degrees; null: not computed)");
@@ -80,11 +84,13 @@ void add_run_command(CLI::App& app) {
     options.threads = o->threads;
     options.progress = !o->quiet;
     options.checkpoint_interval = 60.0 * o->checkpoint_minutes;
+    options.overwrite = o->overwrite;
     RunReport r;
     if (!o->restart.empty()) {
-      if (!o->scenario.empty() || !o->out.empty() || !o->sets.empty()) {
+      if (!o->scenario.empty() || !o->out.empty() || !o->sets.empty() || o->overwrite) {
         throw InputError(
-            "--restart DIR continues the run in DIR with its own scenario; give no scenario, --out or --set")
+            "--restart DIR continues the run in DIR with its own scenario; give no scenario, --out, --set or "
+            "--overwrite")
             .with_key("--restart");
       }
       options.out_dir = o->restart;
@@ -95,7 +101,13 @@ void add_run_command(CLI::App& app) {
       options.out_dir = o->out;
       r = run_scenario(load(*o), options);
     }
-    if (r.interrupted) std::exit(r.at_stop_time ? 0 : 130);  // checkpoint written; 130 as a shell reports Ctrl-C
+    if (!r.failed.empty()) {  // checkpoint and summary (marked failed) written
+      fmt::print(stderr, "bushel: error: the run failed {}; its checkpoint and summary (marked failed) are in {}\n",
+                 r.failed, options.out_dir);
+      std::exit(3);
+    }
+    // checkpoint written; 128 + the signal, as a shell reports one (130 for Ctrl-C, 143 for SIGTERM)
+    if (r.interrupted) std::exit(r.at_stop_time ? 0 : 128 + r.signal);
     if (o->json) {  // for programs: `bushel doe run --scenario` reads the results from here
       const RunSummary summary = read_run_summary(options.out_dir);
       nlohmann::ordered_json results = nlohmann::ordered_json::object(), units = nlohmann::ordered_json::object();

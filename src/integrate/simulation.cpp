@@ -650,16 +650,7 @@ void Simulation::save_state(io::BinaryWriter& out) const {
   each_saved_member(*this, [&](const auto& m) { out.put(m); });
 }
 
-namespace {
-// A servo as checkpoints of format 1 hold it: ServoSpec before its `limit`.
-struct ServoSpecFormat1 {
-  Vec3 axis;
-  double target_force, area, gain, max_speed, tolerance, start, end;
-};
-static_assert(sizeof(ServoSpecFormat1) + sizeof(double) == sizeof(ServoSpec));
-}  // namespace
-
-void Simulation::load_state(io::BinaryReader& in, int format) {
+void Simulation::load_state(io::BinaryReader& in) {
   if (in.get<std::uint64_t>() != parts_.size()) {
     throw InputError("the checkpoint has another number of geometry parts than the scenario");
   }
@@ -669,12 +660,7 @@ void Simulation::load_state(io::BinaryReader& in, int format) {
     in.get(p.enabled);
     in.get(p.motion.segments);
     in.get(p.motion.has_servo);
-    if (format >= 2) {
-      in.get(p.motion.servo);
-    } else {
-      const auto v1 = in.get<ServoSpecFormat1>();
-      p.motion.servo = {v1.axis, v1.target_force, v1.area, v1.gain, v1.max_speed, v1.tolerance, v1.start, v1.end};
-    }
+    in.get(p.motion.servo);
     in.get(p.force);
     in.get(p.torque);
     in.get(p.twist);

@@ -10,11 +10,21 @@ namespace bushel {
 void validate(const Material& m) {
   try {
     require_positive(m.shear_modulus, "shear_modulus", "22.4MPa", "Pa");
+    // Bounds far outside any grain or vessel, that still catch a unit typed wrong: below 1 kPa
+    // kernels sink through each other, above 1 TPa nothing is that stiff.
+    if (!(m.shear_modulus >= 1e3 && m.shear_modulus <= 1e12)) {
+      throw InputError(fmt::format("expected a shear modulus between 1 kPa and 1000 GPa, got {:g} Pa", m.shear_modulus))
+          .with_key("shear_modulus");
+    }
     if (!(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5)) {
       throw InputError(fmt::format("expected a Poisson's ratio between -1 and 0.5, got {:g}", m.poisson_ratio))
           .with_key("poisson_ratio");
     }
     require_positive(m.density, "density", "1373kg/m3", "kg/m3");
+    if (!(m.density >= 1.0 && m.density <= 1e5)) {
+      throw InputError(fmt::format("expected a density between 1 and 100000 kg/m3, got {:g} kg/m3", m.density))
+          .with_key("density");
+    }
   } catch (const InputError& e) {
     throw e.with_key(m.name.empty() ? "material" : m.name);
   }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <fmt/format.h>
+
 #include "bushel/core/input_error.hpp"
 #include "bushel/particles/union_moments.hpp"
 
@@ -95,12 +97,17 @@ ParticleTemplate make_template(std::string name, std::vector<SphereElement> sphe
   if (spheres.empty()) throw InputError("a particle template needs at least one sphere").with_key(name);
   for (std::size_t i = 0; i < spheres.size(); ++i) {
     const auto& s = spheres[i];
-    if (!(s.radius > 0.0) || !std::isfinite(s.radius)) {
-      throw InputError("expected a positive sphere radius, got " + std::to_string(s.radius) + " m")
+    // From a dust grain to a boulder: outside it, a unit typed wrong (a radius in m read as
+    // mm), or a time step of 1e-306 s that never ends the run.
+    if (!(s.radius >= smallest_sphere_radius && s.radius <= largest_sphere_radius)) {
+      throw InputError(fmt::format("expected a sphere radius between {:g} and {:g} m, got {:g} m", smallest_sphere_radius,
+                                   largest_sphere_radius, s.radius))
           .with_key(name + ".spheres[" + std::to_string(i) + "]");
     }
-    if (!std::isfinite(s.centre.x) || !std::isfinite(s.centre.y) || !std::isfinite(s.centre.z)) {
-      throw InputError("expected a finite sphere centre").with_key(name + ".spheres[" + std::to_string(i) + "]");
+    if (!(std::abs(s.centre.x) <= largest_sphere_radius && std::abs(s.centre.y) <= largest_sphere_radius &&
+          std::abs(s.centre.z) <= largest_sphere_radius)) {
+      throw InputError(fmt::format("expected a sphere centre within {:g} m of the template's origin", largest_sphere_radius))
+          .with_key(name + ".spheres[" + std::to_string(i) + "]");
     }
   }
   ParticleTemplate t;

@@ -228,6 +228,10 @@ std::pair<Vec3, Vec3> part_bounds(const Part& part) {
 
 // `parent`'s time_step, "20 us" or "0.2 rayleigh" (of the smallest element's Rayleigh step):
 // [s]. `fraction` is set to the Rayleigh fraction if given so, else 0.
+// The strongest gravity a scenario may set [m/s2]: 100 times the Earth's, far beyond any
+// centrifuge test of grain; more is a typo (a unit or an exponent).
+constexpr double max_gravity = 1000.0;
+
 // simulation: guards: each limit a fraction or quantity in its range (run_guards.hpp).
 RunGuards read_guards(const ScenarioNode& g) {
   g.allow_only({"max_overlap", "overlap_time", "max_speed", "max_travel", "max_lost", "max_steps"});
@@ -419,6 +423,10 @@ Scenario read_scenario(ScenarioDocument document) {
                   "check_interval", "tangential_damping_limit", "guards"});
   SimulationSettings& st = sc.settings;
   st.gravity = sim.vector_or("gravity", dim::acceleration, {0, 0, -9.81});
+  if (norm(st.gravity) > max_gravity) {
+    throw sim.at("gravity").error(fmt::format("expected at most {:g} m/s2 (about 100 g), got {:.4g} m/s2",
+                                              max_gravity, norm(st.gravity)));
+  }
   if (sim.has("integrator")) {
     st.integrator = sim.at("integrator").choice({"symplectic_euler", "velocity_verlet"}) == "velocity_verlet"
                         ? Integrator::velocity_verlet
@@ -614,6 +622,11 @@ Scenario read_scenario(ScenarioDocument document) {
         for (double& v : spec.fractions) v /= sum;
       }
       spec.velocity = f.vector_or("velocity", dim::velocity, {});
+      if (norm(spec.velocity) > sc.guards.max_speed) {
+        throw f.at("velocity").error(fmt::format("a speed of {:.4g} m/s, above the guard's {:g} m/s "
+                                                 "(simulation.guards.max_speed): the run would stop at once",
+                                                 norm(spec.velocity), sc.guards.max_speed));
+      }
       spec.start = f.non_negative_or("start", dim::time, 0.0);
       spec.stop = f.has("stop") ? f.positive("stop", dim::time) : std::numeric_limits<double>::infinity();
       if (!(spec.stop > spec.start)) throw f.at("stop").error("expected a stop time after the start");

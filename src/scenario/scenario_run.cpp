@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <csignal>
 
@@ -242,12 +243,8 @@ std::uint64_t state_hash(const ParticleSystem& ps) {
   return h;
 }
 
-// "bushel checkpoint N", N = Simulation::checkpoint_format or an earlier one that still loads.
+// "bushel checkpoint N", N = Simulation::checkpoint_format.
 std::string checkpoint_magic(int format) { return "bushel checkpoint " + std::to_string(format); }
-
-// What a run records as the build of the sittings before a checkpoint that names none (one
-// written before checkpoints recorded their engine).
-constexpr const char* earlier_engine = "an earlier build (its checkpoint names none)";
 
 // A run continued from a checkpoint by another build than the one that wrote it: its results
 // mix the two (a changed contact law, say), which the summary must say.
@@ -258,8 +255,30 @@ std::string mixed_engines_warning(const std::vector<std::string>& engines) {
 }
 
 // Ctrl-C: the run stops at its next check, writes a checkpoint and returns.
-std::atomic<bool> interrupt_requested{false};
-extern "C" void on_interrupt(int) { interrupt_requested.store(true); }
+// SIGTERM (what a batch scheduler or `kill` sends) does the same: the signal is kept so that
+// the program can exit as a shell expects (128 + signal).
+std::atomic<int> interrupt_signal{0};
+extern "C" void on_interrupt(int signal) { interrupt_signal.store(signal); }
+
+// Catches SIGINT and SIGTERM for as long as it lives.
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    interrupt_signal.store(0);
+    int_ = std::signal(SIGINT, on_interrupt);
+    term_ = std::signal(SIGTERM, on_interrupt);
+  }
+  ~InterruptGuard() {
+    std::signal(SIGINT, int_);
+    std::signal(SIGTERM, term_);
+  }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+ private:
+  void (*int_)(int) = SIG_DFL;
+  void (*term_)(int) = SIG_DFL;
+};
 
 // Where a run stands between checks: enough, with the simulation's state, to continue it.
 struct Position {
@@ -277,6 +296,8 @@ struct Position {
   double peak_overlap = 0.0;  // the current stage's largest overlap over the smaller radius
   std::vector<std::pair<std::string, double>> deep_overlaps;  // stages whose peak passed the warning's
   std::vector<std::string> engines;  // the builds that ran it, oldest first (build_description)
+  GuardClock guards;                 // what the guards remember between checks
+  std::string failed;                // why a guard stopped the run; "" while none has
 };
 
 // The members of a Position, then of a Sink, that a checkpoint holds, in file order: one list
@@ -424,12 +445,12 @@ StageReport get_report(io::BinaryReader& in) {
   in.get(r.start);
   in.get(r.end);
   in.get(r.steps);
-  const auto n = in.get<std::uint64_t>();
+  const auto n = in.get_count(16);
   for (std::uint64_t k = 0; k < n; ++k) {
     auto name = in.get<std::string>();
     r.values.emplace_back(std::move(name), in.get<double>());
   }
-  r.profiles.resize(in.get<std::uint64_t>());
+  r.profiles.resize(in.get_count(24));
   for (auto& p : r.profiles) in.get(p.sensor), in.get(p.radius), in.get(p.height);
   return r;
 }
@@ -439,11 +460,18 @@ class Runner {
   Runner(const Scenario& sc, const RunOptions& o) : sc_(sc), o_(o), st_(sc) {}
 
   // A fresh run; or, with `in`, the rest of the checkpointed run in it.
-  RunReport run(io::BinaryReader* in, int format) {
+  RunReport run(io::BinaryReader* in) {
     namespace fs = std::filesystem;
     const fs::path dir(o_.out_dir);
     if (sc_.outputs.frame_interval > 0.0) frames_.emplace((dir / "frames").string());
-    if (in) load(*in, format);
+    if (in) {
+      load(*in);
+      if (!pos_.failed.empty()) {
+        throw InputError("this run failed " + pos_.failed + "; it cannot be continued: correct the scenario and "
+                         "start it again (--overwrite)")
+            .at(o_.out_dir);
+      }
+    }
     if (pos_.engines.empty() || pos_.engines.back() != build_description()) pos_.engines.push_back(build_description());
     for (const auto& name : sc_.outputs.series.empty() ? st_.names : sc_.outputs.series) {
       columns_.push_back(
@@ -453,6 +481,11 @@ class Runner {
     if (in) {
       // Rows after the checkpoint were written by the stopped run: they are written again.
       std::error_code ec;
+      if (fs::file_size(series_path, ec) < pos_.series_bytes || ec) {
+        throw InputError("timeseries.csv is shorter than the checkpoint says (another run's, or cut): the run "
+                         "cannot be continued here")
+            .at(series_path.string());
+      }
       fs::resize_file(series_path, pos_.series_bytes, ec);
       if (ec) throw InputError("cannot continue the time series: " + ec.message()).at(series_path.string());
       series_.open(series_path, std::ios::app);
@@ -465,17 +498,8 @@ class Runner {
       pos_.series_bytes = static_cast<std::uint64_t>(series_.tellp());
     }
     if (!series_) throw InputError("cannot write the time series").at(series_path.string());
-    interrupt_requested.store(false);
-    const auto previous = std::signal(SIGINT, on_interrupt);
-    RunReport report;
-    try {
-      report = loop();
-    } catch (...) {
-      std::signal(SIGINT, previous);
-      throw;
-    }
-    std::signal(SIGINT, previous);
-    return report;
+    const InterruptGuard catching;
+    return loop();
   }
 
  private:
@@ -490,72 +514,87 @@ class Runner {
     pos_.series_bytes = static_cast<std::uint64_t>(series_.tellp());
   }
 
+  // The checkpoint: its magic line, then sections with checksums (binary_archive.hpp): the
+  // build that wrote it, the scenario as resolved, where the run stands, the engine's state.
   void save_checkpoint() {
-    io::BinaryWriter out;
+    io::BinaryWriter out, build, scenario, run, engine;
     out.put(checkpoint_magic(Simulation::checkpoint_format));
-    out.put(sc_.document.file);
-    out.put(echo_text(sc_.document));
-    out.put(static_cast<std::uint64_t>(sc_.document.overrides.size()));
-    for (const auto& ov : sc_.document.overrides) out.put(ov.path), out.put(ov.value);
-    out.put(static_cast<std::uint64_t>(sc_.document.parameters.size()));
-    for (const auto& [k, v] : sc_.document.parameters) out.put(k), out.put(v);
-    each_checkpointed(pos_, [&](const auto& m) { out.put(m); });
-    out.put(wall());
-    out.put(pos_.series_bytes);
-    out.put(static_cast<std::uint64_t>(pos_.done.size()));
-    for (const auto& r : pos_.done) put(out, r);
-    out.put(static_cast<std::uint64_t>(pos_.warnings.size()));
-    for (const auto& w : pos_.warnings) out.put(w);
-    out.put(st_.factory_on);
-    for (const auto& f : st_.factories) f.save(out);
-    for (const Sink* k : sinks_and_lost()) each_checkpointed(*k, [&](const auto& m) { out.put(m); });
-    for (const auto& f : st_.flows) f.save(out);
-    if (frames_) frames_->save(out);
-    st_.sim.save_state(out);
-    // (added after the format's first runs: last, and optional on reading)
-    out.put(pos_.peak_overlap);
-    st_.sim.save_force_sums(out);
-    out.put(static_cast<std::uint64_t>(pos_.deep_overlaps.size()));
-    for (const auto& [name, peak] : pos_.deep_overlaps) out.put(name), out.put(peak);
-    out.put(static_cast<std::uint64_t>(pos_.engines.size()));
-    for (const auto& e : pos_.engines) out.put(e);
-    st_.sim.save_skin_clock(out);
+    build.put(build_description());
+    out.put_section("build", build);
+    scenario.put(sc_.document.file);
+    scenario.put(echo_text(sc_.document));
+    scenario.put(static_cast<std::uint64_t>(sc_.document.overrides.size()));
+    for (const auto& ov : sc_.document.overrides) scenario.put(ov.path), scenario.put(ov.value);
+    scenario.put(static_cast<std::uint64_t>(sc_.document.parameters.size()));
+    for (const auto& [k, v] : sc_.document.parameters) scenario.put(k), scenario.put(v);
+    each_checkpointed(pos_, [&](const auto& m) { run.put(m); });
+    run.put(wall());
+    run.put(pos_.series_bytes);
+    run.put(static_cast<std::uint64_t>(pos_.done.size()));
+    for (const auto& r : pos_.done) put(run, r);
+    run.put(static_cast<std::uint64_t>(pos_.warnings.size()));
+    for (const auto& w : pos_.warnings) run.put(w);
+    run.put(st_.factory_on);
+    for (const auto& f : st_.factories) f.save(run);
+    for (const Sink* k : sinks_and_lost()) each_checkpointed(*k, [&](const auto& m) { run.put(m); });
+    for (const auto& f : st_.flows) f.save(run);
+    if (frames_) frames_->save(run);
+    run.put(pos_.peak_overlap);
+    run.put(static_cast<std::uint64_t>(pos_.deep_overlaps.size()));
+    for (const auto& [name, peak] : pos_.deep_overlaps) run.put(name), run.put(peak);
+    run.put(static_cast<std::uint64_t>(pos_.engines.size()));
+    for (const auto& e : pos_.engines) run.put(e);
+    pos_.guards.save(run);
+    run.put(pos_.failed);
+    st_.sim.save_state(engine);
+    st_.sim.save_force_sums(engine);
+    st_.sim.save_skin_clock(engine);
+    out.put_section("scenario", scenario);
+    out.put_section("run", run);
+    out.put_section("engine", engine);
     io::write_file_atomically((std::filesystem::path(o_.out_dir) / "checkpoint.bin").string(), out.bytes());
     last_checkpoint_ = Clock::now();
   }
 
-  void load(io::BinaryReader& in, int format) {
-    // (the header, up to the parameters, was read by resume_scenario)
+  // The run and engine sections (the header and the scenario were read by resume_scenario).
+  void load(io::BinaryReader& file) {
+    io::BinaryReader in = file.section("run");
+    io::BinaryReader engine = file.section("engine");
+    if (!file.done()) file.damaged("data after its last section");
     each_checkpointed(pos_, [&](auto& m) { in.get(m); });
     in.get(pos_.wall_before);
     in.get(pos_.series_bytes);
-    const auto n_done = in.get<std::uint64_t>();
+    const auto n_done = in.get_count(8);
     for (std::uint64_t k = 0; k < n_done; ++k) pos_.done.push_back(get_report(in));
-    const auto n_warn = in.get<std::uint64_t>();
+    const auto n_warn = in.get_count(8);
     for (std::uint64_t k = 0; k < n_warn; ++k) pos_.warnings.push_back(in.get<std::string>());
     in.get(st_.factory_on);
     if (st_.factory_on.size() != st_.factories.size() || pos_.stage > sc_.stages.size()) {
-      throw InputError("the checkpoint does not match its scenario (a damaged file?)");
+      in.damaged("it does not match its scenario");
     }
     for (auto& f : st_.factories) f.load(in);
     for (Sink* k : sinks_and_lost()) each_checkpointed(*k, [&](auto& m) { in.get(m); });
     for (auto& f : st_.flows) f.load(in);
     if (frames_) frames_->load(in);
-    st_.sim.load_state(in, format);
-    if (!in.done()) {
-      in.get(pos_.peak_overlap);
-      st_.sim.load_force_sums(in);
-      pos_.deep_overlaps.resize(in.get<std::uint64_t>());
-      for (auto& [name, peak] : pos_.deep_overlaps) in.get(name), in.get(peak);
-    }
-    if (!in.done()) {
-      pos_.engines.resize(in.get<std::uint64_t>());
-      for (auto& e : pos_.engines) in.get(e);
-    } else {
-      pos_.engines = {earlier_engine};
-    }
-    if (!in.done()) st_.sim.load_skin_clock(in);
-    if (!in.done()) throw InputError("unexpected data at the end of the checkpoint (a damaged file?)");
+    in.get(pos_.peak_overlap);
+    pos_.deep_overlaps.resize(in.get_count(16));
+    for (auto& [name, peak] : pos_.deep_overlaps) in.get(name), in.get(peak);
+    pos_.engines.resize(in.get_count(8));
+    for (auto& e : pos_.engines) in.get(e);
+    pos_.guards.load(in);
+    in.get(pos_.failed);
+    if (!in.done()) in.damaged("unexpected data at the end of section 'run'");
+    st_.sim.load_state(engine);
+    st_.sim.load_force_sums(engine);
+    st_.sim.load_skin_clock(engine);
+    if (!engine.done()) engine.damaged("unexpected data at the end of section 'engine'");
+  }
+
+  // The particles created and lost so far, for the lost guard.
+  ParticleTally tally() const {
+    ParticleTally t{st_.lost.total_count(), 0};
+    for (const auto& f : st_.factories) t.created += f.report().total_count;
+    return t;
   }
 
   std::vector<Sink*> sinks_and_lost() {
@@ -625,7 +664,7 @@ class Runner {
     wall0_ = last_line_ = last_checkpoint_ = Clock::now();
     tty_ = o_.progress && isatty(fileno(stderr)) != 0;
     bool interrupted = false, at_stop_time = false;
-    while (pos_.stage < sc_.stages.size() && !interrupted) {
+    while (pos_.stage < sc_.stages.size() && !interrupted && pos_.failed.empty()) {
       const StageSpec& stage = sc_.stages[pos_.stage];
       if (!stage.enabled) {
         ++pos_.stage;
@@ -661,7 +700,7 @@ class Runner {
         }
         // a checkpoint (periodic, or asked for by Ctrl-C) between checks, where nothing is half done
         at_stop_time = sim.time() >= o_.interrupt_at - 0.5 * dt;
-        const bool stop = interrupt_requested.load() || at_stop_time;
+        const bool stop = interrupt_signal.load() != 0 || at_stop_time;
         if (stop ||
             (o_.checkpoint_interval > 0.0 &&
              std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >= o_.checkpoint_interval)) {
@@ -680,9 +719,15 @@ class Runner {
         const auto n = static_cast<std::uint64_t>(std::max(1.0, std::round(span / dt)));
         const double before = sim.time();
         sim.step(n);
-        pos_.peak_overlap = std::max(pos_.peak_overlap, sim.peak_overlap_ratio());
+        const double peak = sim.peak_overlap_ratio();
+        pos_.peak_overlap = std::max(pos_.peak_overlap, peak);
         sim.reset_peak_overlap_ratio();
         pos_.particle_steps += static_cast<double>(n) * static_cast<double>(sim.particles().bodies());
+        if (const std::string why = check_guards(sc_.guards, pos_.guards, sim, before, peak, tally()); !why.empty()) {
+          pos_.failed = fmt::format("at t = {:.6g} s in stage '{}': {}", sim.time(), stage.name, why);
+          save_checkpoint();
+          break;
+        }
         for (std::size_t f = 0; f < st_.factories.size(); ++f) {
           if (!st_.factory_on[f]) continue;
           const FactorySpec& spec = st_.factories[f].spec();
@@ -693,7 +738,7 @@ class Runner {
         for (auto& f : st_.flows) f.update(sim.particles(), sim.time());
         progress_line(stage, limit);
       }
-      if (interrupted) break;
+      if (interrupted || !pos_.failed.empty()) break;
       StageReport sr{stage.name, end, pos_.t0, sim.time(), sim.steps() - pos_.steps0, {}, {}};
       sr.values = st_.named_values();
       for (const auto& k : sc_.sensors) {
@@ -727,7 +772,12 @@ class Runner {
     RunReport report;
     report.interrupted = interrupted;
     report.at_stop_time = interrupted && at_stop_time;
-    if (interrupted) {
+    report.signal = interrupt_signal.load();
+    report.failed = pos_.failed;
+    if (!pos_.failed.empty()) {
+      if (o_.progress) fmt::print(stderr, "{}the run failed {}\n", tty_ ? "\n" : "", pos_.failed);
+      if (frames_) frames_->write(sim);  // (the state that failed, to look at)
+    } else if (interrupted) {
       if (o_.progress) {
         fmt::print(stderr,
                    "{}interrupted at t = {:.4f} s: checkpoint written; continue with: bushel run --restart {}\n",
@@ -746,7 +796,7 @@ class Runner {
     report.engines = pos_.engines;
     if (report.engines.size() > 1) report.warnings.push_back(mixed_engines_warning(report.engines));
     if (!pos_.deep_overlaps.empty()) report.warnings.push_back(overlap_warning(pos_.deep_overlaps, pos_.done));
-    if (!interrupted) {
+    if (!interrupted && pos_.failed.empty()) {
       for (const auto& f : st_.factories) {
         if (f.done()) continue;
         const double made =
@@ -824,6 +874,7 @@ class Runner {
     j["parameters"] = sc_.document.parameters;
     j["echo"] = echo_text(sc_.document);
     j["interrupted"] = report.interrupted;
+    j["failed"] = report.failed.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(report.failed);
     j["dt_s"] = sc_.settings.dt;
     j["rayleigh_step_s"] = sc_.rayleigh_step;
     j["steps"] = report.steps;
@@ -891,6 +942,33 @@ class Runner {
   bool tty_ = false;
 };
 
+// The files and folders a run writes in its output folder.
+constexpr std::array<const char*, 4> run_outputs = {"summary.json", "timeseries.csv", "checkpoint.bin", "frames"};
+
+// A fresh run's output folder: created, or refused if it holds another run's outputs unless
+// the run may replace them, which are then removed first (so that no old frame or row is
+// left beside the new ones, and a kill cannot leave two runs mixed).
+void clear_output(const RunOptions& o) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  std::vector<fs::path> found;
+  for (const char* name : run_outputs) {
+    if (fs::exists(fs::path(o.out_dir) / name, ec)) found.push_back(fs::path(o.out_dir) / name);
+  }
+  if (found.empty()) return;
+  if (!o.overwrite) {
+    throw InputError(fmt::format("the folder holds another run ({}): give another --out, continue it with "
+                                 "--restart, or replace it with --overwrite",
+                                 found.front().filename().string()))
+        .with_key("--out")
+        .at(o.out_dir);
+  }
+  for (const fs::path& p : found) {
+    fs::remove_all(p, ec);
+    if (ec) throw InputError("cannot remove the earlier run's " + p.filename().string() + ": " + ec.message()).at(o.out_dir);
+  }
+}
+
 void prepare_output(const RunOptions& o, int scenario_threads) {
   std::error_code ec;
   std::filesystem::create_directories(o.out_dir, ec);
@@ -906,9 +984,10 @@ void prepare_output(const RunOptions& o, int scenario_threads) {
 }  // namespace
 
 RunReport run_scenario(const Scenario& sc, const RunOptions& options) {
+  clear_output(options);
   prepare_output(options, sc.threads);
   Runner runner(sc, options);
-  return runner.run(nullptr, Simulation::checkpoint_format);
+  return runner.run(nullptr);
 }
 
 RunReport resume_scenario(const RunOptions& options) {
@@ -916,29 +995,42 @@ RunReport resume_scenario(const RunOptions& options) {
   if (!std::filesystem::exists(path)) throw InputError("no checkpoint to continue from").at(path);
   const std::string bytes = io::read_text_file(path);
   io::BinaryReader in(bytes, path);
-  const auto magic = in.get<std::string>();
-  int format = Simulation::checkpoint_format;
-  while (format >= 1 && magic != checkpoint_magic(format)) --format;
-  if (format < 1) throw InputError("not a bushel checkpoint (or of another version)").at(path);
+  const std::string magic = checkpoint_magic(Simulation::checkpoint_format);
+  std::string found;
+  try {
+    found = in.get<std::string>();
+  } catch (const InputError&) {  // (too short for even the magic line)
+  }
+  if (!found.starts_with("bushel checkpoint ")) throw InputError("not a bushel checkpoint").at(path);
+  const auto writer = in.section("build").get<std::string>();
+  if (found != magic) {
+    throw InputError(fmt::format("a checkpoint of format {}, written by bushel {}; this build ({}) reads format {}: "
+                                 "continue it with the build that wrote it, or start the run again",
+                                 found.substr(magic.size() - 1), writer, build_description(),
+                                 Simulation::checkpoint_format))
+        .at(path);
+  }
   // The scenario as it was resolved (overrides applied, parameters substituted), read again
   // as if from its file, so that relative paths (meshes, templates) still resolve.
-  const auto file = in.get<std::string>();
-  const auto text = in.get<std::string>();
-  std::vector<Override> overrides(in.get<std::uint64_t>());
-  for (auto& ov : overrides) in.get(ov.path), in.get(ov.value);
+  io::BinaryReader head = in.section("scenario");
+  const auto file = head.get<std::string>();
+  const auto text = head.get<std::string>();
+  std::vector<Override> overrides(head.get_count(16));
+  for (auto& ov : overrides) head.get(ov.path), head.get(ov.value);
   std::map<std::string, std::string> parameters;
-  const auto n_parameters = in.get<std::uint64_t>();
+  const auto n_parameters = head.get_count(16);
   for (std::uint64_t k = 0; k < n_parameters; ++k) {
-    auto name = in.get<std::string>();
-    parameters[name] = in.get<std::string>();
+    auto name = head.get<std::string>();
+    parameters[name] = head.get<std::string>();
   }
+  if (!head.done()) head.damaged("unexpected data at the end of section 'scenario'");
   ScenarioDocument doc = parse_scenario_document(text, file);
   doc.overrides = std::move(overrides);
   doc.parameters = std::move(parameters);
   const Scenario sc = read_scenario(std::move(doc));
   prepare_output(options, sc.threads);
   Runner runner(sc, options);
-  return runner.run(&in, format);
+  return runner.run(&in);
 }
 
 }  // namespace bushel

@@ -8,18 +8,21 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <random>
 #include <sstream>
 
 #include "bushel/core/build_info.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/geometry/motion.hpp"
 #include "bushel/geometry/shapes.hpp"
+#include "bushel/io/binary_archive.hpp"
 #include "bushel/io/csv.hpp"
 #include "bushel/io/stl.hpp"
 #include "bushel/scenario/run_summary.hpp"
@@ -202,6 +205,7 @@ class ScenarioRun : public TempDirTest {
     RunOptions o;
     o.out_dir = path("out");
     o.progress = false;
+    o.overwrite = true;  // (a test runs several scenarios in turn)
     return run_scenario(sc, o);
   }
   // Runs the scenario into path(dir), stopped halfway through the second stage of the whole
@@ -488,6 +492,9 @@ TEST_F(ScenarioRun, SaysHowManyKernelsLeftTheDomainAndInWhichStage) {
   - name: settle
 )"),
                                        "size: 80 80 20 mm}}", "size: 80 80 20 mm}, enabled: false}");
+  // (every kernel leaves: the lost guard, which stops a run at half, is told to let them)
+  const std::string all_lost = replaced(dropped, "  time_step: 0.2 rayleigh\n",
+                                        "  time_step: 0.2 rayleigh\n  guards: {max_lost: 100%}\n");
   const double kernel_g = 1e3 * 1373.0 * std::numbers::pi / 6.0 * std::pow(3.64e-3, 3);
   auto lost_warnings = [](const RunReport& r) {
     std::vector<std::string> out;
@@ -495,17 +502,17 @@ TEST_F(ScenarioRun, SaysHowManyKernelsLeftTheDomainAndInWhichStage) {
       if (w.find("left the domain") != std::string::npos) out.push_back(w);
     return out;
   };
-  const RunReport many = run(read(dropped, {parse_override("parameters.count=40")}));
+  const RunReport many = run(read(all_lost, {parse_override("parameters.count=40")}));
   ASSERT_EQ(lost_warnings(many).size(), 1u);
   EXPECT_EQ(lost_warnings(many)[0],
             fmt::format("40 particles ({:.3g} g) left the domain, all in stage 'drop'", 40 * kernel_g));
-  const RunReport one = run(read(dropped, {parse_override("parameters.count=1")}));
+  const RunReport one = run(read(all_lost, {parse_override("parameters.count=1")}));
   ASSERT_EQ(lost_warnings(one).size(), 1u);
   EXPECT_EQ(lost_warnings(one)[0], fmt::format("1 particle ({:.3g} g) left the domain, in stage 'drop'", kernel_g));
   // 150 kernels, made over a taller column, leave between about 95 and 120 ms after the cup
   // goes (none by 90 ms, all by 120), so a stage boundary at 105 ms splits them (58 and 92),
   // and the warning names both stages with their counts.
-  const RunReport split = run(read(replaced(dropped, "until: {time: 0.15 s}\n", R"(until: {time: 105 ms}
+  const RunReport split = run(read(replaced(all_lost, "until: {time: 0.15 s}\n", R"(until: {time: 105 ms}
   - name: fall
     until: {time: 65 ms}
 )"),
@@ -520,7 +527,7 @@ TEST_F(ScenarioRun, SaysHowManyKernelsLeftTheDomainAndInWhichStage) {
   EXPECT_EQ(w.rfind("150 particles (", 0), 0u) << w;
   // With the sink on, none is lost and there is no warning.
   EXPECT_TRUE(
-      lost_warnings(run(read(replaced(dropped, ", enabled: false}", "}"), {parse_override("parameters.count=40")})))
+      lost_warnings(run(read(replaced(all_lost, ", enabled: false}", "}"), {parse_override("parameters.count=40")})))
           .empty());
 }
 
@@ -718,36 +725,49 @@ TEST_F(ScenarioRun, OutputsNeverChangeWhatIsSimulated) {
             "(no error)");
 }
 
-TEST_F(ScenarioRun, ContinuesACheckpointOfTheFormatBeforeServoStops) {
-  // Format 1 held each part's servo without its limit: the same checkpoint in format 1 (the
-  // parts' servos, all default here, without their last 8 bytes) continues to the same end.
-  const Scenario sc = read(small, {parse_override("parameters.count=60")});
+TEST_F(ScenarioRun, RefusesEveryDamagedCheckpointAndOneOfAnotherFormat) {
+  // A checkpoint with a flipped bit anywhere, or cut anywhere, is a clear InputError: never a
+  // crash, never a run that continues into different results.
+  const Scenario sc = read(small, {parse_override("parameters.count=30")});
   RunOptions o;
   o.progress = false;
-  o.out_dir = path("whole");
-  run_scenario(sc, o);
   o.out_dir = path("cut");
   o.interrupt_at = 0.02;
   ASSERT_TRUE(run_scenario(sc, o).interrupted);
-  std::string bytes = io::read_text_file(path("cut/checkpoint.bin"));
-  const ServoSpec servo;
-  const std::string now(reinterpret_cast<const char*>(&servo), sizeof servo), before = now.substr(0, sizeof servo - 8);
-  const std::string magic = "bushel checkpoint ";
-  const auto at = bytes.find(magic + "2");
-  ASSERT_NE(at, std::string::npos);
-  bytes[at + magic.size()] = '1';
-  int parts = 0;
-  for (auto k = bytes.find(now); k != std::string::npos; k = bytes.find(now, k + before.size()), ++parts)
-    bytes.replace(k, now.size(), before);
-  EXPECT_EQ(parts, 1);  // the cup
-  std::ofstream(path("cut/checkpoint.bin"), std::ios::binary) << bytes;
+  const std::string good = io::read_text_file(path("cut/checkpoint.bin"));
   o.interrupt_at = std::numeric_limits<double>::infinity();
-  ASSERT_FALSE(resume_scenario(o).interrupted);
-  auto hash = [&](const std::string& dir) {
-    std::ifstream in(path(dir + "/summary.json"));
-    return nlohmann::json::parse(in)["final_state_hash"];
+  auto refused = [&](const std::string& bytes) {
+    std::ofstream(path("cut/checkpoint.bin"), std::ios::binary | std::ios::trunc) << bytes;
+    try {
+      resume_scenario(o);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(continued)");
   };
-  EXPECT_EQ(hash("whole"), hash("cut"));
+  std::mt19937_64 random(7);
+  for (int k = 0; k < 40; ++k) {
+    std::string flipped = good;
+    const std::size_t at = random() % good.size();
+    flipped[at] = static_cast<char>(flipped[at] ^ (1 << (random() % 8)));
+    const std::string why = refused(flipped);
+    EXPECT_TRUE(why.find("damaged checkpoint") != std::string::npos ||
+                why.find("not a bushel checkpoint") != std::string::npos ||
+                why.find("a checkpoint of format") != std::string::npos)
+        << "bit flipped at byte " << at << ": " << why;
+    const std::size_t cut = random() % good.size();
+    EXPECT_NE(refused(good.substr(0, cut)).find("checkpoint"), std::string::npos) << "cut at " << cut;
+  }
+  EXPECT_NE(refused(good + "x").find("data after its last section"), std::string::npos);
+  EXPECT_NE(refused(std::string(8, '\xff')).find("not a bushel checkpoint"), std::string::npos);
+  std::string other = good;
+  other[other.find("checkpoint 3") + 11] = '2';
+  EXPECT_NE(refused(other).find("a checkpoint of format 2, written by bushel " + build_description()),
+            std::string::npos)
+      << refused(other);
+  // the good one still continues
+  std::ofstream(path("cut/checkpoint.bin"), std::ios::binary | std::ios::trunc) << good;
+  EXPECT_FALSE(resume_scenario(o).interrupted);
 }
 
 TEST_F(ScenarioRun, NamesItsEngineAndSaysWhenAnotherBuildContinuedIt) {
@@ -773,20 +793,25 @@ TEST_F(ScenarioRun, NamesItsEngineAndSaysWhenAnotherBuildContinuedIt) {
   EXPECT_EQ(build_description(),
             fmt::format("{} (commit {}{})", b.version, b.commit.substr(0, 12), b.dirty ? ", uncommitted changes" : ""));
 
-  // A checkpoint that names no build (as before checkpoints recorded it, the list cut off
-  // its end) may come from another one: the continued run says its results mix builds.
-  const std::string bytes = io::read_text_file(path("out/checkpoint.bin"));
-  // (the list, then the adaptive skin's clock, a step count)
-  const std::size_t clock = sizeof(std::uint64_t);
-  const std::size_t list = 2 * sizeof(std::uint64_t) + build_description().size() + clock;
-  ASSERT_EQ(bytes.substr(bytes.size() - clock - build_description().size(), build_description().size()),
-            build_description());
-  std::ofstream(path("out/checkpoint.bin"), std::ios::binary) << bytes.substr(0, bytes.size() - list);
+  // A checkpoint written by another build (its name in the run section rewritten, the
+  // section's checksum made anew): the continued run says its results mix builds.
+  std::string bytes = io::read_text_file(path("out/checkpoint.bin"));
+  const std::string other(build_description().size(), 'X');
+  const std::string name = std::string("\x03\0\0\0\0\0\0\0", 8) + "run";
+  const std::size_t head = bytes.find(name) + name.size(), body = head + 2 * sizeof(std::uint64_t);
+  std::uint64_t length = 0;
+  std::memcpy(&length, bytes.data() + head, sizeof length);
+  const std::size_t at = bytes.find(build_description(), body);
+  ASSERT_LT(at, body + length);
+  bytes.replace(at, other.size(), other);
+  const std::uint64_t sum = io::checksum(std::string_view(bytes).substr(body, length));
+  std::memcpy(bytes.data() + head + sizeof length, &sum, sizeof sum);
+  std::ofstream(path("out/checkpoint.bin"), std::ios::binary | std::ios::trunc) << bytes;
   o.interrupt_at = std::numeric_limits<double>::infinity();
   const RunReport r = resume_scenario(o);
   ASSERT_FALSE(r.interrupted);
   EXPECT_EQ(engine()["builds"],
-            nlohmann::json::array({"an earlier build (its checkpoint names none)", build_description()}));
+            nlohmann::json::array({other, build_description()}));
   ASSERT_FALSE(r.warnings.empty());
   EXPECT_NE(r.warnings.back().find("continued from a checkpoint by another engine build"), std::string::npos)
       << r.warnings.back();

@@ -90,17 +90,16 @@ class Simulation {
   /// histories, time), for a checkpoint. `load_state` into a simulation built with the same
   /// settings, types and parts continues bit for bit as the saved one would have.
   void save_state(io::BinaryWriter& out) const;
-  /// The checkpoint format that save_state writes: 2 added the servos' limit.
-  static constexpr int checkpoint_format = 2;
-  /// `format`: that of the checkpoint (1 and 2 load).
-  void load_state(io::BinaryReader& in, int format = checkpoint_format);
+  /// The checkpoint format that a run writes and reads (scenario_run.cpp): 3, sections with
+  /// checksums. A checkpoint of another format is refused.
+  static constexpr int checkpoint_format = 3;
+  void load_state(io::BinaryReader& in);
   /// The last step's contact force sums (of unbalanced_force_ratio), which save_state leaves
-  /// out: a checkpoint stores them after everything else, so that older ones still load.
+  /// out (a checkpoint stores them after it).
   void save_force_sums(io::BinaryWriter& out) const;
   void load_force_sums(io::BinaryReader& in);
   /// The step of the last neighbour-list build, which the adaptive skin measures from (the
-  /// skin itself is in the list): stored last for the same reason. Without it (an older
-  /// checkpoint) load_state counts from the saved step.
+  /// skin itself is in the list), stored after the force sums.
   void save_skin_clock(io::BinaryWriter& out) const;
   void load_skin_clock(io::BinaryReader& in);
 

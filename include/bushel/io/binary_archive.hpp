@@ -2,7 +2,9 @@
 // A plain binary archive for checkpoints: values and vectors of trivially copyable types and
 // strings, written in the machine's byte order, read back with every length checked against
 // what is left (a truncated or foreign file is an InputError, never a crash). A checkpoint is
-// only read back on the machine kind that wrote it.
+// only read back on the machine kind that wrote it. Its parts are sections: a name, a length
+// and an XXH3-64 checksum of the bytes, so that a flipped bit or a cut file is found before
+// any of it is read, not restarted into a different run.
 
 #include <cstdint>
 #include <cstring>
@@ -14,6 +16,9 @@
 #include "bushel/core/input_error.hpp"
 
 namespace bushel::io {
+
+/// The checksum of a section's bytes (XXH3, 64 bits).
+std::uint64_t checksum(std::string_view bytes);
 
 class BinaryWriter {
  public:
@@ -34,6 +39,8 @@ class BinaryWriter {
     put(static_cast<std::uint64_t>(s.size()));
     bytes_.append(s);
   }
+  /// Appends `body` as the section `name` with its length and checksum.
+  void put_section(std::string_view name, const BinaryWriter& body);
   const std::string& bytes() const { return bytes_; }
 
  private:
@@ -81,17 +88,23 @@ class BinaryReader {
     return v;
   }
   bool done() const { return at_ == bytes_.size(); }
+  /// A count of items that take at least `bytes_each` bytes each, checked against what is
+  /// left before anything is sized by it.
+  std::uint64_t get_count(std::size_t bytes_each) { return count(bytes_each); }
+  /// The next section, which must be `name`, its checksum verified; the reader over its bytes
+  /// borrows this reader's bytes.
+  BinaryReader section(std::string_view name);
+  /// Throws the InputError of damaged data, naming the source and `what`.
+  [[noreturn]] void damaged(const std::string& what) const;
 
  private:
   void need(std::size_t n) const {
-    if (bytes_.size() - at_ < n) throw InputError("truncated or not a bushel checkpoint").at(source_);
+    if (bytes_.size() - at_ < n) damaged("it ends early");
   }
   std::uint64_t count(std::size_t element) {
     std::uint64_t n = 0;
     get(n);
-    if (element > 0 && n > (bytes_.size() - at_) / element) {
-      throw InputError("truncated or not a bushel checkpoint").at(source_);
-    }
+    if (element > 0 && n > (bytes_.size() - at_) / element) damaged("a count larger than the data that follows");
     return n;
   }
   std::string_view bytes_;

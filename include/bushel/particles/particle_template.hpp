@@ -44,10 +44,15 @@ struct ParticleTemplate {
   double bounding_radius() const;
 };
 
+/// The range of a template sphere's radius [m], and of its centre's coordinates (up to the
+/// largest radius) that make_template accepts.
+inline constexpr double smallest_sphere_radius = 1e-6;
+inline constexpr double largest_sphere_radius = 10.0;
+
 /// Builds a template from spheres given in any body frame: computes the union volume,
 /// centre of mass and inertia numerically, then re-expresses the spheres in the principal
 /// frame (axes ordered by ascending moment, right-handed, signs canonical). Throws
-/// InputError for no spheres or a non-positive or non-finite radius or centre.
+/// InputError for no spheres, or a radius or centre out of those ranges (or not finite).
 ParticleTemplate make_template(std::string name, std::vector<SphereElement> spheres,
                                const TemplateOptions& options = {});
 

@@ -22,6 +22,9 @@ namespace bushel {
 
 struct RunOptions {
   std::string out_dir;               ///< created if missing
+  /// A fresh run into a folder that holds another run's outputs replaces them (they are removed
+  /// first); false: such a folder is an InputError.
+  bool overwrite = false;
   int threads = 0;                   ///< 0: the scenario's setting
   bool progress = true;              ///< a progress line on stderr
   double progress_interval = 10;     ///< wall seconds between plain progress lines (not a terminal) [s]
@@ -48,6 +51,8 @@ struct StageReport {
 struct RunReport {
   bool interrupted = false;   ///< stopped by Ctrl-C (or interrupt_at): checkpoint.bin holds the rest
   bool at_stop_time = false;  ///< stopped because it reached RunOptions::interrupt_at, as asked
+  int signal = 0;             ///< the signal that interrupted it (SIGINT, SIGTERM); 0: none
+  std::string failed;         ///< why a guard stopped the run (run_guards.hpp); "" if none did
   std::vector<StageReport> stages;
   std::uint64_t steps = 0;
   double simulated_time = 0.0;  ///< [s]
