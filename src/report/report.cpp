@@ -316,7 +316,7 @@ void add_references(ReportSection& s, Report& report, const Group& g, const std:
       for (const ReferenceValue& ref : references) {
         if (ref.result != name || !reference_applies(ref, *c.run)) continue;
         const std::string unit = known ? unit_of_runs : std::string(result_unit(ref.dimension));
-        const double reference = reference_in_unit_of(ref, RunResult{name, std::nullopt, unit});
+        const double reference = reference_in_unit_of(ref, RunResult{name, std::nullopt, unit, ""});
         const double sim = value_of(*c.run, name);
         report.comparisons.push_back({c.label, name, unit, sim, reference, ref.source, (sim - reference) / reference});
         if (std::find(results.begin(), results.end(), name) == results.end()) results.push_back(name);
@@ -494,11 +494,17 @@ ReportSection scenario_section(const Group& g, const std::vector<ReferenceValue>
     for (const Case& c : g.cases) {
       std::vector<std::string> row{c.label};
       for (const std::string& p : g.varied) row.push_back(c.run->parameter(p).value_or(""));
-      for (std::size_t i = 0; i < plain.size(); ++i)
-        row.push_back(number_text(value_of(*c.run, plain[i]) * displays[i].factor));
+      for (std::size_t i = 0; i < plain.size(); ++i) {
+        const RunResult* r = c.run->result(plain[i]);
+        row.push_back(number_text(value_of(*c.run, plain[i]) * displays[i].factor) +
+                      (r != nullptr && !r->not_full.empty() ? " (not full)" : ""));
+      }
       t.rows.push_back(std::move(row));
     }
-    s.blocks.push_back(table_block("Results (n/a: not computed, e.g. an interrupted run)", std::move(t)));
+    s.blocks.push_back(table_block(
+        "Results (n/a: not computed, e.g. an interrupted run; not full: a density over a sensor the grain did not "
+        "fill, see the warnings)",
+        std::move(t)));
   }
 
   // Every result of every case, in the summary's units, for other tools.

@@ -165,10 +165,11 @@ RunSummary read_run_summary(const std::string& path) {
       }
     }
     for (const auto& [name, r] : member(j, "results", Json::value_t::object, "the results").items()) {
-      RunResult res{name, std::nullopt, ""};
+      RunResult res{name, std::nullopt, "", ""};
       if (r.is_object()) {
         if (r.contains("value") && r["value"].is_number()) res.value = r["value"].get<double>();
         res.unit = r.value("unit", std::string());
+        res.not_full = r.value("not_full", std::string());
       } else if (!r.is_null()) {
         throw InputError("expected {value, unit} or null").with_key("results." + name);
       }

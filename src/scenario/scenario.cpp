@@ -306,7 +306,7 @@ std::vector<std::string> SensorSpec::values(const std::vector<std::string>& type
   switch (kind) {
     case Kind::region: {
       std::vector<std::string> v = {"mass",         "count", "bulk_density", "bulk_density_exact", "packing_fraction",
-                                    "coordination", "volume"};
+                                    "coordination", "volume",       "surface_margin"};
       for (const auto& t : type_names) v.push_back("fraction_" + t);
       return v;
     }
@@ -363,6 +363,7 @@ units::Dimension value_dimension(const std::string& value_name) {
                                                                   {"torque_y", dim::energy},
                                                                   {"torque_z", dim::energy},
                                                                   {"position_z", dim::length},
+                                                                  {"surface_margin", dim::length},
                                                                   {"height", dim::length},
                                                                   {"rate", dim::mass_flow},
                                                                   {"start", dim::time},

@@ -128,7 +128,7 @@ struct RunState {
         // per the reference volume, where one is given (a heaped kettle over its own volume)
         const double per = s.reference_volume > 0.0 ? region.volume() / s.reference_volume : 1.0;
         v.insert(v.end(), {r.mass, static_cast<double>(r.count), r.bulk_density * per, r.bulk_density_exact * per,
-                           r.packing_fraction * per, r.coordination, region.volume()});
+                           r.packing_fraction * per, r.coordination, region.volume(), r.surface_margin});
         v.insert(v.end(), r.mass_fraction.begin(), r.mass_fraction.end());
         break;
       }
@@ -818,6 +818,7 @@ class Runner {
     nlohmann::ordered_json j = nlohmann::ordered_json::object();
     for (const ResultSpec& r : sc_.results) {
       bool skipped = false;  // it names a stage with enabled: false
+      std::string not_full;  // why a density it uses counts empty space
       try {
         const units::Quantity q = evaluate_result(r, [&](const std::string& stage, const std::string& value) {
           const auto s = std::find_if(report.stages.begin(), report.stages.end(),
@@ -830,14 +831,20 @@ class Runner {
           if (value == "start") return s->start;
           if (value == "end") return s->end;
           if (value == "duration") return s->end - s->start;
+          if (not_full.empty()) not_full = not_full_note(*s, value);
           const auto v =
               std::find_if(s->values.begin(), s->values.end(), [&](const auto& x) { return x.first == value; });
           return v->second;  // (names were checked by read_scenario)
         });
         j[r.name] = {{"value", result_value(q)}, {"unit", result_unit(q.dimension)}};
+        if (!not_full.empty()) {
+          j[r.name]["not_full"] = not_full;
+          warnings.push_back(fmt::format("result '{}' means little: {}", r.name, not_full));
+        }
         if (o_.progress && !report.interrupted) {
-          fmt::print(stderr, "  {} = {:.6g}{}{}\n", r.name, result_value(q),
-                     q.dimension == units::dim::dimensionless ? "" : " ", result_unit(q.dimension));
+          fmt::print(stderr, "  {} = {:.6g}{}{}{}\n", r.name, result_value(q),
+                     q.dimension == units::dim::dimensionless ? "" : " ", result_unit(q.dimension),
+                     not_full.empty() ? "" : "  (NOT FULL: see the warning)");
         }
       } catch (const InputError& e) {
         j[r.name] = nullptr;
@@ -845,6 +852,22 @@ class Runner {
       }
     }
     return j;
+  }
+
+  // For a density of a region sensor at the end of stage `r` ("cup.bulk_density"): what
+  // makes it meaningless when the region was not full then (region_sensor.hpp), else "".
+  static std::string not_full_note(const StageReport& r, const std::string& value) {
+    const std::size_t dot = value.rfind('.');
+    if (dot == std::string::npos) return "";
+    const std::string sensor = value.substr(0, dot), what = value.substr(dot + 1);
+    if (what != "bulk_density" && what != "bulk_density_exact" && what != "packing_fraction") return "";
+    const auto m = std::find_if(r.values.begin(), r.values.end(),
+                                [&](const auto& x) { return x.first == sensor + ".surface_margin"; });
+    if (m == r.values.end() || m->second >= 0.0) return "";
+    return fmt::format("region sensor '{}' was not full at the end of stage '{}': the grain surface's lowest "
+                       "point lay {:.1f} mm below its top, so its {} counts empty space (a lower sensor, or more "
+                       "grain)",
+                       sensor, r.name, -1e3 * m->second, what);
   }
 
   // The stage of this name (names are unique), or null.

@@ -16,6 +16,9 @@ struct RunResult {
   std::string name;
   std::optional<double> value;  ///< [unit]; empty when the run could not compute it
   std::string unit;             ///< "kg/m3", "Pa", "deg", "" for plain numbers: SI except angles
+  /// Why the value means little, if it does: a density of a region sensor that was not full
+  /// (its top above the grain surface); "" otherwise.
+  std::string not_full{};
 };
 
 /// What one factory created, per particle type.

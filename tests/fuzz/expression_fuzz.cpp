@@ -1,0 +1,15 @@
+// libFuzzer target: an expression through units::evaluate, and a quantity through
+// units::parse_quantity (fuzz_inputs.hpp). An InputError is the answer to bad input; anything else is a bug.
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "fuzz/fuzz_inputs.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  try {
+    bushel::fuzz::expression_input(std::string_view(reinterpret_cast<const char*>(data), size));
+  } catch (const bushel::InputError&) {
+  }
+  return 0;
+}

@@ -1,0 +1,15 @@
+// libFuzzer target: a particle template CSV through TemplateLibrary::parse_csv
+// (fuzz_inputs.hpp). An InputError is the answer to bad input; anything else is a bug.
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "fuzz/fuzz_inputs.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  try {
+    bushel::fuzz::template_csv_input(std::string_view(reinterpret_cast<const char*>(data), size));
+  } catch (const bushel::InputError&) {
+  }
+  return 0;
+}
