@@ -48,19 +48,27 @@ struct DoeOptions {
   bool json = false;
 };
 
-// "name=low:high,..." -> levels.
-std::map<std::string, std::pair<double, double>> parse_levels(const std::string& text) {
+// A design's columns that are not factors (doe design writes them).
+const std::vector<std::string> bookkeeping_columns = {"std_order", "run_order", "center_pt", "pt_type", "block"};
+
+// "name=low:high,..." -> levels; `option` names the option in errors.
+std::map<std::string, std::pair<double, double>> parse_levels(const std::string& text, const std::string& option) {
   std::map<std::string, std::pair<double, double>> out;
   for (const std::string& item : split_list(text, ',')) {
     const auto eq = item.find('='), colon = item.find(':');
     if (eq == std::string::npos || colon == std::string::npos || colon < eq) {
-      throw InputError(fmt::format("expected name=low:high, got '{}'", item)).with_key("--levels");
+      throw InputError(fmt::format("expected name=low:high, got '{}'", item)).with_key(option);
+    }
+    const std::string name = item.substr(0, eq);
+    if (name.empty()) throw InputError(fmt::format("a factor without a name in '{}'", item)).with_key(option);
+    if (out.contains(name)) {
+      throw InputError(fmt::format("the factor '{}' is given twice; give each factor once", name)).with_key(option);
     }
     try {
-      out[item.substr(0, eq)] = {units::parse_number(item.substr(eq + 1, colon - eq - 1)),
-                                 units::parse_number(item.substr(colon + 1))};
+      out[name] = {units::parse_number(item.substr(eq + 1, colon - eq - 1)),
+                   units::parse_number(item.substr(colon + 1))};
     } catch (const InputError& e) {
-      throw e.with_key("--levels");
+      throw e.with_key(option);
     }
   }
   return out;
@@ -82,7 +90,7 @@ Analysis analyze(const DoeOptions& o) {
       throw e.with_key("--model");
     }
   }();
-  doe::FactorTable table = doe::read_factor_table(o.file, factors, o.response, parse_levels(o.levels), o.block,
+  doe::FactorTable table = doe::read_factor_table(o.file, factors, o.response, parse_levels(o.levels, "--levels"), o.block,
                                                   doe::RowFilter::parse(o.where));
   doe::Fit fit = doe::fit(table.coded, table.response, factors, kind, o.alpha, table.blocks);
   return {std::move(table), std::move(fit)};
@@ -218,7 +226,13 @@ void print_analysis(const Analysis& a, const DoeOptions& o) {
 void write_outputs(const Analysis& a, const DoeOptions& o) {
   if (o.plots.empty()) return;
   const std::filesystem::path dir(o.plots);
-  std::filesystem::create_directories(dir);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir, ec)) {
+    throw InputError("expected a folder for the tables and plots" + (ec ? ": " + ec.message() : std::string()))
+        .with_key("--out")
+        .at(o.plots);
+  }
   auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.10g}", v) : std::string(); };
   std::string coefficients = "term,effect,coefficient,se,t,p,significant\n";
   for (const doe::Coefficient& c : a.fit.coefficients) {
@@ -364,7 +378,7 @@ int point_type(const doe::Design& d, Eigen::Index r) {
 }
 
 void run_design(const DoeOptions& o) {
-  const auto levels = parse_levels(o.factors);
+  const auto levels = parse_levels(o.factors, "--factors");
   // parse_levels sorts by name; keep the order given.
   std::vector<doe::Factor> factors;
   for (const std::string& item : split_list(o.factors, ',')) {
@@ -432,11 +446,12 @@ void run_design(const DoeOptions& o) {
 // are the scenario's results. Every row's scenario is read and validated before anything runs.
 std::vector<std::string> scenario_command(const DoeOptions& o, const std::vector<std::string>& responses) {
   const io::CsvTable design = io::CsvTable::read(o.file);
-  static const std::vector<std::string> bookkeeping = {"std_order", "run_order", "center_pt", "pt_type", "block"};
   std::vector<std::string> factors = split_list(o.factors, ',');
   if (factors.empty()) {
     for (const std::string& h : design.header()) {
-      if (std::find(bookkeeping.begin(), bookkeeping.end(), h) == bookkeeping.end()) factors.push_back(h);
+      if (std::find(bookkeeping_columns.begin(), bookkeeping_columns.end(), h) == bookkeeping_columns.end()) {
+        factors.push_back(h);
+      }
     }
   }
   for (const std::string& f : factors) (void)design.column(f);  // each is a column of the design
@@ -469,6 +484,24 @@ std::vector<std::string> scenario_command(const DoeOptions& o, const std::vector
   return command;
 }
 
+// A command that leaves out one of the design's factor columns would run rows that differ only
+// in it as the same run.
+void check_command_uses_factors(const DoeOptions& o) {
+  const io::CsvTable design = io::CsvTable::read(o.file);
+  std::string joined;
+  for (const std::string& a : o.command) joined += a + ' ';
+  for (const std::string& h : design.header()) {
+    if (std::find(bookkeeping_columns.begin(), bookkeeping_columns.end(), h) != bookkeeping_columns.end()) continue;
+    if (joined.find('{' + h + '}') == std::string::npos) {
+      throw InputError(fmt::format("the design's factor '{}' is not in the command (as {{{}}}): rows that differ "
+                                   "in it would run the same",
+                                   h, h))
+          .with_key("command")
+          .at(o.file);
+    }
+  }
+}
+
 void run_campaign(const DoeOptions& o) {
   doe::CampaignSpec spec;
   spec.design = o.file;
@@ -483,6 +516,7 @@ void run_campaign(const DoeOptions& o) {
   } else {
     if (!o.sets.empty()) throw InputError("--set goes with --scenario").with_key("--set");
     spec.command = o.command;
+    check_command_uses_factors(o);
   }
   spec.jobs = o.jobs;
   spec.threads = o.threads;
@@ -524,9 +558,13 @@ void add_doe_command(CLI::App& app) {
   auto* design_cmd = doe->add_subcommand("design", "A design table: pb, factorial, ccd, bb (Box-Behnken) or lhs");
   design_cmd->add_option("design", o->kind, "pb, factorial, ccd, bb or lhs")->required();
   design_cmd->add_option("--factors", o->factors, "Factors and their levels, name=low:high,...")->required();
-  design_cmd->add_option("--runs", o->runs, "Runs: 12, 20 or 24 for pb (12); any for lhs (10 per factor)");
-  design_cmd->add_option("--center", o->centre, "Centre points (per block for ccd; default factorial 0, ccd 6, bb 3)");
-  design_cmd->add_option("--fraction", o->fraction, "Factorial fraction p: 2^(k-p) runs")->capture_default_str();
+  design_cmd->add_option("--runs", o->runs, "Runs: 12, 20 or 24 for pb (12); any for lhs (10 per factor)")
+      ->check(CLI::Range(1, 100000));
+  design_cmd->add_option("--center", o->centre, "Centre points (per block for ccd; default factorial 0, ccd 6, bb 3)")
+      ->check(CLI::Range(0, 1000));
+  design_cmd->add_option("--fraction", o->fraction, "Factorial fraction p: 2^(k-p) runs")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 30));
   design_cmd->add_option("--generators", o->generators, "Fraction generators, e.g. E=ABCD (default: standard)");
   design_cmd->add_option("--ccd", o->ccd, "face, circumscribed or inscribed")->capture_default_str();
   design_cmd->add_option("--blocks", o->blocks, "ccd: 1, or 2 (cube and axial blocks)")->capture_default_str();
@@ -541,8 +579,10 @@ void add_doe_command(CLI::App& app) {
       ->add_option("--response", o->response,
                    "Keys of the command's JSON output to collect, e.g. mass_kg (with --scenario: its results)")
       ->required();
-  run_cmd->add_option("--jobs", o->jobs, "Runs at a time")->capture_default_str();
-  run_cmd->add_option("--threads", o->threads, "OpenMP threads per run (0: cores / jobs)")->capture_default_str();
+  run_cmd->add_option("--jobs", o->jobs, "Runs at a time")->capture_default_str()->check(CLI::Range(1, 1024));
+  run_cmd->add_option("--threads", o->threads, "OpenMP threads per run (0: cores / jobs)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1024));
   run_cmd->add_option("--scenario", o->scenario,
                       "Run this scenario per row: the design's factor columns are its parameters, the responses its "
                       "results");

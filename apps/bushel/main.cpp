@@ -2,6 +2,9 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include <exception>
+#include <new>
+
 #include "bushel/core/build_info.hpp"
 #include "bushel/core/input_error.hpp"
 #include "commands.hpp"
@@ -31,6 +34,14 @@ int main(int argc, char** argv) {
   } catch (const bushel::InputError& e) {
     fmt::print(stderr, "bushel: error: {}\n", e.what());
     return 1;
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "bushel: error: out of memory\n");
+    return 70;
+  } catch (const std::exception& e) {
+    // A failure no check foresaw: still one line and an exit code, never an abort. It is a
+    // bug: every bad input should be an InputError that says where it is.
+    fmt::print(stderr, "bushel: internal error: {} (please report it with the command that led to it)\n", e.what());
+    return 70;
   }
   return 0;
 }

@@ -74,7 +74,8 @@ std::vector<std::string> run_folders(const std::vector<std::string>& args) {
   namespace fs = std::filesystem;
   std::vector<std::string> out;
   for (const std::string& a : args) {
-    if (fs::is_directory(a) && !fs::exists(fs::path(a) / "summary.json")) {
+    std::error_code ec;
+    if (fs::is_directory(a, ec) && !fs::exists(fs::path(a) / "summary.json", ec)) {
       std::vector<std::string> inside;
       for (const auto& e : fs::directory_iterator(a)) {
         if (e.is_directory() && fs::exists(e.path() / "summary.json")) inside.push_back(e.path().string());

@@ -66,7 +66,11 @@ CsvTable CsvTable::parse(std::string_view text, std::string source) {
 
 std::string read_text_file(const std::string& path, std::size_t limit) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError("expected a file, this is a folder").at(path);
+  const auto type = std::filesystem::status(path, ec).type();
+  if (type == std::filesystem::file_type::directory) throw InputError("expected a file, this is a folder").at(path);
+  if (type == std::filesystem::file_type::character || type == std::filesystem::file_type::block) {
+    throw InputError("expected a file, this is a device").at(path);
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open the file for reading").at(path);
   // In blocks up to the limit, so that a device or pipe that never ends is an error, not an

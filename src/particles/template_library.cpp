@@ -94,7 +94,8 @@ ParticleTemplate resolve_template(const std::string& spec, const TemplateOptions
     path = spec.substr(0, colon);
     name = spec.substr(colon + 1);
   }
-  const bool is_file = path.ends_with(".csv") || std::filesystem::exists(path);
+  std::error_code ec;  // (a name too long for a path is a name, not an error of the file system)
+  const bool is_file = path.ends_with(".csv") || std::filesystem::exists(path, ec);
   if (!is_file) return TemplateLibrary::builtin().get(spec);
   const TemplateLibrary lib = TemplateLibrary::read_csv(path, options);
   if (name.empty()) {

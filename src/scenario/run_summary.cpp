@@ -115,7 +115,8 @@ std::vector<std::pair<double, double>> RunSummary::curve(const std::string& x, c
 }
 
 bool names_run(const std::string& path) {
-  return std::filesystem::is_directory(path) || std::filesystem::path(path).extension() == ".json";
+  std::error_code ec;
+  return std::filesystem::is_directory(path, ec) || std::filesystem::path(path).extension() == ".json";
 }
 
 RunSummary read_run_summary(const std::string& path) {
@@ -123,8 +124,9 @@ RunSummary read_run_summary(const std::string& path) {
   RunSummary out;
   out.directory = path;
   out.file = fs::path(path).extension() == ".json" ? path : (fs::path(path) / "summary.json").string();
-  if (!fs::exists(out.file)) {
-    throw InputError(fs::is_directory(path) ? "no summary.json here: expected the output folder of `bushel run`"
+  std::error_code ec;
+  if (!fs::exists(out.file, ec)) {
+    throw InputError(fs::is_directory(path, ec) ? "no summary.json here: expected the output folder of `bushel run`"
                                             : "no such run folder or summary file")
         .at(path);
   }

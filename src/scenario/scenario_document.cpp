@@ -144,25 +144,48 @@ std::string substitute(const std::string& text, const std::map<std::string, std:
   }
 }
 
-void substitute_all(YAML::Node node, const std::string& path, const std::map<std::string, std::string>& parameters,
-                    const std::vector<std::string>& names, const std::string& file) {
+// What substitution needs: the parameters, their names, the file, and the parameters set on
+// the command line with their overrides, so that an error in a value made from one names it.
+struct Substitution {
+  const std::map<std::string, std::string>& parameters;
+  const std::vector<std::string>& names;
+  const std::string& file;
+  std::map<std::string, std::string> from_command_line;  // parameter -> "--set parameters.p=v"
+};
+
+// The `--set` behind a scalar's ${...}, if one of the parameters it names was set so; "".
+std::string set_behind(const std::string& text, const Substitution& s) {
+  for (const auto& [name, set] : s.from_command_line) {
+    for (std::size_t at = text.find(name); at != std::string::npos; at = text.find(name, at + 1)) {
+      const std::size_t open = text.rfind("${", at), close = text.rfind('}', at);
+      const bool inside = open != std::string::npos && (close == std::string::npos || close < open);
+      const auto part_of_name = [&](std::size_t k) {
+        return k < text.size() && (std::isalnum(static_cast<unsigned char>(text[k])) != 0 || text[k] == '_');
+      };
+      if (inside && !part_of_name(at + name.size()) && (at == 0 || !part_of_name(at - 1))) return set;
+    }
+  }
+  return "";
+}
+
+void substitute_all(YAML::Node node, const std::string& path, const Substitution& s) {
   if (node.IsScalar()) {
     const std::string text = node.Scalar();
     if (text.find("${") == std::string::npos) return;
     try {
-      node = substitute(text, parameters, names);
+      node = substitute(text, s.parameters, s.names);
     } catch (const InputError& e) {
-      throw e.with_key(path).at(file, line_of(node));
+      throw e.with_key(path).at(s.file, line_of(node));
     }
+    if (const std::string set = set_behind(text, s); !set.empty()) node.SetTag(std::string(set_tag) + set);
     return;
   }
   if (node.IsSequence()) {
-    for (std::size_t k = 0; k < node.size(); ++k)
-      substitute_all(node[k], path + "." + std::to_string(k), parameters, names, file);
+    for (std::size_t k = 0; k < node.size(); ++k) substitute_all(node[k], path + "." + std::to_string(k), s);
   } else if (node.IsMap()) {
     for (auto kv : node) {
       const std::string key = kv.first.as<std::string>();
-      substitute_all(kv.second, path.empty() ? key : path + "." + key, parameters, names, file);
+      substitute_all(kv.second, path.empty() ? key : path + "." + key, s);
     }
   }
 }
@@ -219,9 +242,13 @@ ScenarioDocument parse_scenario_document(const std::string& text, const std::str
       names.push_back(name);
     }
   }
+  Substitution sub{doc.parameters, names, source, {}};
+  for (const Override& o : overrides) {
+    if (o.path.starts_with("parameters.")) sub.from_command_line[o.path.substr(11)] = "--set " + o.path + "=" + o.value;
+  }
   for (auto kv : doc.root) {
     const std::string key = kv.first.as<std::string>();
-    if (key != "parameters") substitute_all(kv.second, key, doc.parameters, names, source);
+    if (key != "parameters") substitute_all(kv.second, key, sub);
   }
   return doc;
 }

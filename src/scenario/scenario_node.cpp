@@ -29,7 +29,9 @@ int ScenarioNode::line() const { return line_of(node_); }
 InputError ScenarioNode::error(const std::string& problem) const {
   // A value set with --set has no line in the file: the error points at the command line.
   const int l = line();
-  InputError e = InputError(problem).at(l > 0 ? file_ : "command line (--set)", l);
+  const std::string tag = node_.Tag();
+  const std::string from = tag.starts_with(set_tag) ? " (the value comes from " + tag.substr(set_tag.size()) + ")" : "";
+  InputError e = InputError(problem + from).at(l > 0 ? file_ : "command line (--set)", l);
   return path_.empty() ? e : e.with_key(path_);
 }
 

@@ -1015,7 +1015,8 @@ RunReport run_scenario(const Scenario& sc, const RunOptions& options) {
 
 RunReport resume_scenario(const RunOptions& options) {
   const std::string path = (std::filesystem::path(options.out_dir) / "checkpoint.bin").string();
-  if (!std::filesystem::exists(path)) throw InputError("no checkpoint to continue from").at(path);
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InputError("no checkpoint to continue from").at(path);
   const std::string bytes = io::read_text_file(path);
   io::BinaryReader in(bytes, path);
   const std::string magic = checkpoint_magic(Simulation::checkpoint_format);

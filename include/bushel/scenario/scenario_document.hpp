@@ -52,6 +52,10 @@ ScenarioDocument load_scenario_document(const std::string& path, std::span<const
 ScenarioDocument parse_scenario_document(const std::string& text, const std::string& source,
                                          std::span<const Override> overrides = {});
 
+/// The tag a value made from a parameter set on the command line carries, followed by that
+/// `--set`, so that an error about the value can name it (ScenarioNode::error).
+inline constexpr std::string_view set_tag = "!bushel-set:";
+
 /// Line (from 1) of a node in its file; 0 for a value set on the command line.
 int line_of(const YAML::Node& node);
 
