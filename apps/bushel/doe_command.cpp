@@ -70,6 +70,11 @@ std::map<std::string, std::pair<double, double>> parse_levels(const std::string&
     } catch (const InputError& e) {
       throw e.with_key(option);
     }
+    if (!(out[name].first < out[name].second)) {
+      throw InputError(fmt::format("the factor '{}' has its low level {:g} above or at its high {:g}", name,
+                                   out[name].first, out[name].second))
+          .with_key(option);
+    }
   }
   return out;
 }

@@ -413,7 +413,7 @@ std::vector<std::string> Scenario::value_names() const {
 
 Scenario read_scenario(ScenarioDocument document) {
   Scenario sc;
-  const ScenarioNode root(document.root, "", document.file);
+  const ScenarioNode root(document.root, "", document.file, &document.set_by);
   const std::string dir = std::filesystem::path(document.file).parent_path().string();
   root.allow_only({"parameters", "simulation", "materials", "particle_types", "contacts", "parts", "factories", "sinks",
                    "sensors", "stages", "results", "outputs"});
@@ -466,8 +466,9 @@ Scenario read_scenario(ScenarioDocument document) {
                  m.positive("density", dim::density)};
     try {
       validate(mat);
-    } catch (const InputError& e) {
-      throw m.at(e.key().empty() ? std::string("poisson_ratio") : e.key()).error(e.problem());
+    } catch (const InputError& e) {  // (its key is "NAME.field")
+      const std::string field = e.key().substr(e.key().find('.') + 1);
+      throw m.at(field.empty() || field == e.key() ? std::string("poisson_ratio") : field).error(e.problem());
     }
     materials[name] = mat;
     material_names.push_back(name);
@@ -489,7 +490,7 @@ Scenario read_scenario(ScenarioDocument document) {
       try {
         shape = resolve_template(spec);
       } catch (const InputError& e) {
-        throw t.at("template").error(e.problem());
+        throw t.at("template").error(e.source().empty() ? e.problem() : e.what());  // (a CSV's file and line)
       }
     }
     sc.types.push_back({name, std::move(shape), mat});

@@ -151,6 +151,7 @@ struct Substitution {
   const std::vector<std::string>& names;
   const std::string& file;
   std::map<std::string, std::string> from_command_line;  // parameter -> "--set parameters.p=v"
+  std::map<std::string, std::string>& set_by;             // filled: key path -> that --set
 };
 
 // The `--set` behind a scalar's ${...}, if one of the parameters it names was set so; "".
@@ -177,7 +178,7 @@ void substitute_all(YAML::Node node, const std::string& path, const Substitution
     } catch (const InputError& e) {
       throw e.with_key(path).at(s.file, line_of(node));
     }
-    if (const std::string set = set_behind(text, s); !set.empty()) node.SetTag(std::string(set_tag) + set);
+    if (std::string set = set_behind(text, s); !set.empty()) s.set_by[path] = std::move(set);
     return;
   }
   if (node.IsSequence()) {
@@ -212,7 +213,7 @@ int line_of(const YAML::Node& node) {
 
 ScenarioDocument parse_scenario_document(const std::string& text, const std::string& source,
                                          std::span<const Override> overrides) {
-  ScenarioDocument doc{source, {}, {overrides.begin(), overrides.end()}, {}};
+  ScenarioDocument doc{source, {}, {overrides.begin(), overrides.end()}, {}, {}};
   if (text.size() > max_scenario_bytes) {
     throw InputError(fmt::format("a scenario file is at most {} MiB", max_scenario_bytes >> 20)).at(source);
   }
@@ -242,7 +243,7 @@ ScenarioDocument parse_scenario_document(const std::string& text, const std::str
       names.push_back(name);
     }
   }
-  Substitution sub{doc.parameters, names, source, {}};
+  Substitution sub{doc.parameters, names, source, {}, doc.set_by};
   for (const Override& o : overrides) {
     if (o.path.starts_with("parameters.")) sub.from_command_line[o.path.substr(11)] = "--set " + o.path + "=" + o.value;
   }

@@ -21,22 +21,23 @@ std::vector<std::string> strings(std::initializer_list<std::string_view> list) {
 
 }  // namespace
 
-ScenarioNode::ScenarioNode(YAML::Node node, std::string path, std::string file)
-    : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)) {}
+ScenarioNode::ScenarioNode(YAML::Node node, std::string path, std::string file,
+                           const std::map<std::string, std::string>* set_by)
+    : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)), set_by_(set_by) {}
 
 int ScenarioNode::line() const { return line_of(node_); }
 
 InputError ScenarioNode::error(const std::string& problem) const {
   // A value set with --set has no line in the file: the error points at the command line.
   const int l = line();
-  const std::string tag = node_.Tag();
-  const std::string from = tag.starts_with(set_tag) ? " (the value comes from " + tag.substr(set_tag.size()) + ")" : "";
+  const auto set = set_by_ != nullptr ? set_by_->find(path_) : std::map<std::string, std::string>::const_iterator{};
+  const std::string from = set_by_ != nullptr && set != set_by_->end() ? " (the value comes from " + set->second + ")" : "";
   InputError e = InputError(problem + from).at(l > 0 ? file_ : "command line (--set)", l);
   return path_.empty() ? e : e.with_key(path_);
 }
 
 ScenarioNode ScenarioNode::child(YAML::Node node, const std::string& key) const {
-  return ScenarioNode(std::move(node), path_.empty() ? key : path_ + "." + key, file_);
+  return ScenarioNode(std::move(node), path_.empty() ? key : path_ + "." + key, file_, set_by_);
 }
 
 bool ScenarioNode::has(const std::string& key) const { return node_.IsMap() && node_[key]; }

@@ -31,7 +31,8 @@ assert terms["mu"]["coefficient"] < 0 and terms["k"]["coefficient"] < 0, terms
 PY
 
 # A placeholder that names no column: an error, and nothing runs.
-if "$bushel" doe run design.csv --out camp2 --response mass_kg -- {bushel} bin --k {kk} 2>err.txt; then
+if "$bushel" doe run design.csv --out camp2 --response mass_kg -- {bushel} bin --wall-friction {mu} --k {k} {kk} \
+    2>err.txt; then
   fail "bad placeholder accepted"
 fi
 grep -q "placeholder {kk} names no column of the design" err.txt || fail "message: $(cat err.txt)"

@@ -87,6 +87,17 @@ std::string error_of(const std::string& text, std::vector<Override> overrides = 
   return "(no error)";
 }
 
+// The message of the InputError that `f` throws.
+template <class F>
+std::string thrown_by(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   const auto at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
@@ -723,6 +734,58 @@ TEST_F(ScenarioRun, OutputsNeverChangeWhatIsSimulated) {
   EXPECT_EQ(error_of(replaced(base, "timeseries: {interval: 10 ms}", "timeseries: {interval: 0.5 ms}"),
                      {parse_override("simulation.check_interval=0.5ms")}),
             "(no error)");
+}
+
+TEST_F(ScenarioRun, AGuardStopsARunGoneWrongWithACheckpointAndAFailedSummary) {
+  // A plane that appears inside the settled grain (a part enabled in the wrong place): the
+  // overlaps pass 100 % of a radius at once, the run stops in that stage with its checkpoint
+  // and a summary marked failed, and it cannot be continued.
+  const std::string text = replaced(
+      replaced(small, "  cup: {shape: cylinder", "  slab: {shape: plane, position: 0 0 3 mm, normal: 0 0 1, "
+                                                 "material: steel, enabled: false}\n  cup: {shape: cylinder"),
+      "outputs:\n", "  - name: squash\n    enable: [slab]\n    until: {time: 20 ms}\noutputs:\n");
+  const Scenario sc = read(text, {parse_override("parameters.count=60")});
+  const RunReport r = run(sc);
+  EXPECT_FALSE(r.interrupted);
+  EXPECT_NE(r.failed.find("in stage 'squash': "), std::string::npos) << r.failed;
+  ASSERT_EQ(r.stages.size(), 2u);  // fill and settle finished; squash did not
+  std::ifstream in(path("out/summary.json"));
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["failed"], r.failed);
+  EXPECT_TRUE(j["results"].is_object());
+  RunOptions o;
+  o.out_dir = path("out");
+  o.progress = false;
+  EXPECT_NE(thrown_by([&] { resume_scenario(o); }).find("this run failed at t = "), std::string::npos);
+
+  // Every particle leaving through a missing floor: the lost guard at half of them.
+  const std::string floorless =
+      replaced(replaced(small, "cap_bottom: true", "cap_bottom: false"), "size: 80 80 20 mm}}",
+               "size: 80 80 20 mm}, enabled: false}");
+  const RunReport lost = run(read(floorless, {parse_override("parameters.count=40")}));
+  EXPECT_NE(lost.failed.find("of the 40 particles created have left the domain, more than the guard's 50 %"),
+            std::string::npos)
+      << lost.failed;
+  // and the same run with the guard at 100 % goes to its end
+  const RunReport allowed = run(read(replaced(floorless, "  time_step: 0.2 rayleigh\n",
+                                              "  time_step: 0.2 rayleigh\n  guards: {max_lost: 100%}\n"),
+                                     {parse_override("parameters.count=40")}));
+  EXPECT_TRUE(allowed.failed.empty()) << allowed.failed;
+}
+
+TEST_F(ScenarioRun, RefusesAnOutputFolderOfAnotherRunUnlessToldToReplaceIt) {
+  const Scenario sc = read(small, {parse_override("parameters.count=20"), parse_override("stages.1.until.max_time=30ms")});
+  RunOptions o;
+  o.out_dir = path("out");
+  o.progress = false;
+  run_scenario(sc, o);
+  std::ofstream(path("out/frames/stale.vtu")) << "an old frame";
+  EXPECT_NE(thrown_by([&] { run_scenario(sc, o); }).find("the folder holds another run (summary.json)"),
+            std::string::npos);
+  o.overwrite = true;
+  run_scenario(sc, o);
+  EXPECT_FALSE(std::filesystem::exists(path("out/frames/stale.vtu")));
+  EXPECT_TRUE(std::filesystem::exists(path("out/summary.json")));
 }
 
 TEST_F(ScenarioRun, RefusesEveryDamagedCheckpointAndOneOfAnotherFormat) {

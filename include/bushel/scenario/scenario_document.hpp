@@ -41,6 +41,9 @@ struct ScenarioDocument {
   YAML::Node root;                                ///< the resolved tree: a map
   std::vector<Override> overrides;                ///< as given, in order (the run's summary echoes them)
   std::map<std::string, std::string> parameters;  ///< name -> value after overrides
+  /// Key path -> the `--set parameters.NAME=...` its value was made from ("${NAME}" in it), so
+  /// that an error about the value names the command line's part in it.
+  std::map<std::string, std::string> set_by;
 };
 
 /// Reads a scenario file. Overrides are applied in order, then `${name}` in every scalar
@@ -51,10 +54,6 @@ ScenarioDocument load_scenario_document(const std::string& path, std::span<const
 /// The same from text; `source` names it in errors.
 ScenarioDocument parse_scenario_document(const std::string& text, const std::string& source,
                                          std::span<const Override> overrides = {});
-
-/// The tag a value made from a parameter set on the command line carries, followed by that
-/// `--set`, so that an error about the value can name it (ScenarioNode::error).
-inline constexpr std::string_view set_tag = "!bushel-set:";
 
 /// Line (from 1) of a node in its file; 0 for a value set on the command line.
 int line_of(const YAML::Node& node);

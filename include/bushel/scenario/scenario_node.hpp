@@ -4,6 +4,7 @@
 // names the file, the line and the key path ("cup.yaml:12: key 'parts.cup.radius': ...").
 
 #include <initializer_list>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -23,7 +24,10 @@ class ScenarioNode {
  public:
   /// `path` is the key path of `node` from the root ("" for the root); `file` names the
   /// scenario in errors.
-  ScenarioNode(YAML::Node node, std::string path, std::string file);
+  /// `set_by` (may be null, else it must outlive the node and its children) maps key paths to
+  /// the `--set` their value was made from, which errors about them name.
+  ScenarioNode(YAML::Node node, std::string path, std::string file,
+               const std::map<std::string, std::string>* set_by = nullptr);
 
   const std::string& path() const { return path_; }
   const std::string& file() const { return file_; }
@@ -84,6 +88,7 @@ class ScenarioNode {
   ScenarioNode child(YAML::Node node, const std::string& key) const;
   YAML::Node node_;
   std::string path_, file_;
+  const std::map<std::string, std::string>* set_by_ = nullptr;
 };
 
 }  // namespace bushel
