@@ -94,7 +94,12 @@ ShapeSpec read_shape(const ScenarioNode& n, const std::string& shape, const std:
     const double angle = n.quantity("wall_angle", dim::angle);
     if (!(angle > 0.0 && angle < 0.5 * std::numbers::pi))
       throw n.at("wall_angle").error("expected an angle between 0 and 90 deg");
-    return ConeSpec::funnel(n.positive("top_diameter", dim::length), n.positive("outlet_diameter", dim::length), angle);
+    try {
+      return ConeSpec::funnel(n.positive("top_diameter", dim::length), n.positive("outlet_diameter", dim::length),
+                              angle);
+    } catch (const InputError& e) {  // (the shape's own check names the key)
+      throw n.at(e.key().empty() ? std::string("outlet_diameter") : e.key()).error(e.problem());
+    }
   }
   if (shape == "box") {
     const Vec3 size = n.at("size").vector(dim::length);
@@ -106,7 +111,15 @@ ShapeSpec read_shape(const ScenarioNode& n, const std::string& shape, const std:
   const ScenarioNode file = n.at("file");
   std::filesystem::path path = file.text();
   if (path.is_relative()) path = std::filesystem::path(scenario_dir) / path;
-  const double scale = n.has("unit") ? units::parse("1 " + n.at("unit").text(), dim::length) : 1.0;
+  double scale = 1.0;
+  if (const auto unit = n.find("unit")) {
+    try {
+      scale = units::parse("1 " + unit->text(), dim::length);
+    } catch (const InputError&) {
+      throw unit->error("expected the unit of the file's coordinates: a unit of length (m, cm, mm), got '" +
+                        unit->text() + "'");
+    }
+  }
   try {
     return MeshSpec{io::read_stl(path.string(), scale), path.string()};
   } catch (const InputError& e) {

@@ -590,6 +590,20 @@ class Runner {
     if (!engine.done()) engine.damaged("unexpected data at the end of section 'engine'");
   }
 
+  // A factory asked for everything at once that could not place it all: said once, with what
+  // it made, since the rest waits for room that may never come.
+  void warn_if_crowded(const Factory& f) {
+    if (f.spec().rate > 0.0 || f.report().waiting == 0) return;
+    const std::string head = fmt::format("factory '{}' ", f.spec().name);
+    if (std::any_of(pos_.warnings.begin(), pos_.warnings.end(), [&](const auto& w) { return w.starts_with(head); })) {
+      return;
+    }
+    pos_.warnings.push_back(fmt::format(
+        "{}(everything at once) found room for {} particles; {} more wait for room ({} random places tried for "
+        "each): a larger region, or a rate",
+        head, f.report().total_count, f.report().waiting, f.spec().attempts));
+  }
+
   // The particles created and lost so far, for the lost guard.
   ParticleTally tally() const {
     ParticleTally t{st_.lost.total_count(), 0};
@@ -733,6 +747,7 @@ class Runner {
           const FactorySpec& spec = st_.factories[f].spec();
           const double active = std::max(0.0, std::min(sim.time(), spec.stop) - std::max(before, spec.start));
           if (active > 0.0) st_.factories[f].run(sim, active);
+          warn_if_crowded(st_.factories[f]);
         }
         apply_sinks(sim, st_.sinks, sc_.domain, st_.lost);
         for (auto& f : st_.flows) f.update(sim.particles(), sim.time());
@@ -756,7 +771,16 @@ class Runner {
             fmt::format("stage '{}' ended at its time limit before its condition was met", stage.name));
       }
       const double unbalanced = sim.unbalanced_force_ratio();
-      if (stage.kinetic_energy && unbalanced > jitter_unbalanced_force) {
+      // (ended at its first check, far from rest: particles made at rest, all at once, before)
+      const bool at_first_check =
+          end == "kinetic_energy" && sr.steps <= static_cast<std::uint64_t>(std::round(sc_.check_interval / dt));
+      if (at_first_check && unbalanced > jitter_unbalanced_force) {
+        pos_.warnings.push_back(fmt::format(
+            "stage '{}' ended at its first check with the kinetic energy already below its limit, though the "
+            "particles are not at rest (unbalanced force ratio {:.2g}): they had not started to move (made at rest, "
+            "all at once?), so they have not settled; give the stage a min_time",
+            stage.name, unbalanced));
+      } else if (stage.kinetic_energy && unbalanced > jitter_unbalanced_force) {
         pos_.warnings.push_back(fmt::format(
             "stage '{}' ended with the packing not at rest (unbalanced force ratio {:.2g}, above {:g}): either it "
             "ended before the packing settled (a longer min_time), or the particles jitter, which compacts a "
