@@ -80,6 +80,23 @@ TEST(Expression, ErrorsNameTheExpressionAndTheProblem) {
   EXPECT_NE(error_of("log(2)").find("unknown function 'log'"), std::string::npos);
 }
 
+TEST(Expression, DepthLengthAndExponentsAreBounded) {
+  // 64 levels of parentheses, functions or minuses are read; 65 are refused, never a stack
+  // overflow, and so are 500,000 minuses or an exponent that would overflow.
+  EXPECT_NEAR(eval(std::string(63, '(') + "h" + std::string(63, ')')).value, 0.1016, 1e-15);
+  EXPECT_NE(error_of(std::string(65, '(') + "h" + std::string(65, ')')).find("nested more than 64 levels deep"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(65, '-') + "h").find("nested more than 64 levels deep"), std::string::npos);
+  EXPECT_NE(error_of(std::string(500000, '-') + "h").find("longer than 4096 characters"), std::string::npos);
+  // (the message quotes the start of a long expression, not all of it)
+  EXPECT_LT(error_of(std::string(500000, '-') + "h").size(), 200u);
+  std::string power = "h";
+  for (int k = 1; k < 32; ++k) power += " * h";
+  EXPECT_EQ(eval(power).dimension.length, 32);
+  EXPECT_NE(error_of(power + " * h").find("a unit to a power beyond 32"), std::string::npos);
+  EXPECT_NE(error_of("1e308 * 10").find("not a finite number"), std::string::npos);
+}
+
 TEST(Expression, QuantitiesParseAndFormatInSi) {
   EXPECT_NEAR(parse_quantity("101.6 mm").value, 0.1016, 1e-15);
   EXPECT_EQ(parse_quantity("101.6 mm").dimension, dim::length);

@@ -142,6 +142,43 @@ TEST(ScenarioDocument, BadFilesAndSyntax) {
             std::string::npos);
 }
 
+// The YAML a scenario may not contain, though yaml-cpp would load it: each an error at its line.
+TEST(ScenarioDocument, RefusesWhatYamlAllowsButAScenarioMustNotHold) {
+  auto refused = [](const std::string& text) { return error_of([&] { parse_scenario_document(text, "s.yaml"); }); };
+  const InputError twice = refused("parameters:\n  mass: 1 kg\n  rate: 1 kg/s\n  mass: 2 kg\n");
+  EXPECT_EQ(twice.line(), 4);
+  EXPECT_NE(std::string(twice.what()).find("the key 'mass' appears twice in one map (lines 2 and 4)"),
+            std::string::npos);
+  // the same key in two maps is fine
+  EXPECT_NO_THROW(parse_scenario_document("a: {x: 1}\nb: {x: 2}\n", "s.yaml"));
+  EXPECT_NE(std::string(refused("? [a, b]\n: 1\n").what()).find("a list as a key"), std::string::npos);
+  EXPECT_NE(std::string(refused("{a: 1}: 1\n").what()).find("a map as a key"), std::string::npos);
+  EXPECT_NE(std::string(refused("a: &k b\n*k : 1\n").what()).find("an alias (*name) as a key"), std::string::npos);
+  const InputError second = refused("a: 1\n---\nb: 2\n");
+  EXPECT_EQ(second.line(), 2);
+  EXPECT_NE(std::string(second.what()).find("a second YAML document"), std::string::npos);
+  EXPECT_NE(std::string(refused("a: &x [1, *x]\n").what()).find("to the list or map that contains it"),
+            std::string::npos);
+  // aliases are fine while they stay small, and counted expanded: 9^5 values are too many
+  EXPECT_NO_THROW(parse_scenario_document("a: &x [1, 2]\nb: *x\nc: *x\n", "s.yaml"));
+  std::string laughs = "a0: &a0 [x, x, x, x, x, x, x, x, x]\n";
+  for (int k = 1; k <= 5; ++k) {
+    laughs += "a" + std::to_string(k) + ": &a" + std::to_string(k) + " [";
+    for (int j = 0; j < 9; ++j) laughs += (j ? ", *a" : "*a") + std::to_string(k - 1);
+    laughs += "]\n";
+  }
+  EXPECT_NE(std::string(refused(laughs).what()).find("more than 100000 values"), std::string::npos);
+  // a parameter nobody declared cannot be set; a --set behind a value is named in its errors
+  const InputError undeclared = error_of(
+      [] { parse_scenario_document("parameters:\n  mass: 1 kg\n", "s.yaml", std::vector<Override>{parse_override("parameters.mas=2")}); });
+  EXPECT_NE(std::string(undeclared.what()).find("declares no parameter 'mas' (did you mean 'mass'?)"),
+            std::string::npos);
+  const ScenarioDocument doc = parse_scenario_document("parameters:\n  m: 1 kg\nf:\n  mass: ${m}\n  n: 2\n",
+                                                       "s.yaml", std::vector<Override>{parse_override("parameters.m=3x")});
+  EXPECT_EQ(doc.set_by.at("f.mass"), "--set parameters.m=3x");
+  EXPECT_FALSE(doc.set_by.contains("f.n"));
+}
+
 class ScenarioFile : public TempDirTest {};
 
 TEST_F(ScenarioFile, ReadsTheFileWithOverrides) {
@@ -151,6 +188,17 @@ TEST_F(ScenarioFile, ReadsTheFileWithOverrides) {
       load_scenario_document(file, std::vector<Override>{parse_override("parameters.drop=1 m")});
   EXPECT_EQ(doc.file, file);
   EXPECT_EQ(doc.root["factories"][0]["height"].as<std::string>(), "1 m above 1 m");
+}
+
+TEST_F(ScenarioFile, RefusesDevicesFoldersAndFilesTooLarge) {
+  EXPECT_NE(std::string(error_of([] { load_scenario_document("/dev/zero"); }).what()).find("this is a device"),
+            std::string::npos);
+  EXPECT_NE(std::string(error_of([&] { load_scenario_document(path("")); }).what()).find("this is a folder"),
+            std::string::npos);
+  const std::string big = path("big.yaml");
+  std::ofstream(big) << "a: " << std::string((16u << 20) + 1, 'x') << "\n";
+  EXPECT_NE(std::string(error_of([&] { load_scenario_document(big); }).what()).find("16 MiB at most"),
+            std::string::npos);
 }
 
 }  // namespace
