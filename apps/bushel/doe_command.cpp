@@ -95,8 +95,8 @@ Analysis analyze(const DoeOptions& o) {
       throw e.with_key("--model");
     }
   }();
-  doe::FactorTable table = doe::read_factor_table(o.file, factors, o.response, parse_levels(o.levels, "--levels"), o.block,
-                                                  doe::RowFilter::parse(o.where));
+  doe::FactorTable table = doe::read_factor_table(o.file, factors, o.response, parse_levels(o.levels, "--levels"),
+                                                  o.block, doe::RowFilter::parse(o.where));
   doe::Fit fit = doe::fit(table.coded, table.response, factors, kind, o.alpha, table.blocks);
   return {std::move(table), std::move(fit)};
 }
@@ -460,7 +460,8 @@ std::vector<std::string> scenario_command(const DoeOptions& o, const std::vector
     }
   }
   for (const std::string& f : factors) (void)design.column(f);  // each is a column of the design
-  std::vector<std::string> command = {"{bushel}", "run", o.scenario, "--out", "{run_dir}", "--overwrite", "--quiet", "--json"};
+  std::vector<std::string> command = {"{bushel}",  "run",         o.scenario, "--out",
+                                      "{run_dir}", "--overwrite", "--quiet",  "--json"};
   for (const std::string& s : o.sets) command.insert(command.end(), {"--set", s});
   for (const std::string& f : factors) command.insert(command.end(), {"--set", "parameters." + f + "={" + f + "}"});
 

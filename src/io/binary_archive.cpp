@@ -32,8 +32,7 @@ BinaryReader BinaryReader::section(std::string_view name) {
 }
 
 void BinaryReader::damaged(const std::string& what) const {
-  throw InputError("a damaged checkpoint (" + what + "): it cannot be continued; start the run again")
-      .at(source_);
+  throw InputError("a damaged checkpoint (" + what + "): it cannot be continued; start the run again").at(source_);
 }
 
 }  // namespace bushel::io

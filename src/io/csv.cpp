@@ -81,7 +81,8 @@ std::string read_text_file(const std::string& path, std::size_t limit) {
     in.read(block.data(), block.size());
     const auto got = static_cast<std::size_t>(in.gcount());
     if (text.size() + got > limit) {
-      const std::string most = limit >= (1u << 20) ? fmt::format("{} MiB", limit >> 20) : fmt::format("{} bytes", limit);
+      const std::string most =
+          limit >= (1u << 20) ? fmt::format("{} MiB", limit >> 20) : fmt::format("{} bytes", limit);
       throw InputError("the file is larger than bushel reads (" + most + " at most)").at(path);
     }
     text.append(block.data(), got);

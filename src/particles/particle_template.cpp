@@ -100,13 +100,14 @@ ParticleTemplate make_template(std::string name, std::vector<SphereElement> sphe
     // From a dust grain to a boulder: outside it, a unit typed wrong (a radius in m read as
     // mm), or a time step of 1e-306 s that never ends the run.
     if (!(s.radius >= smallest_sphere_radius && s.radius <= largest_sphere_radius)) {
-      throw InputError(fmt::format("expected a sphere radius between {:g} and {:g} m, got {:g} m", smallest_sphere_radius,
-                                   largest_sphere_radius, s.radius))
+      throw InputError(fmt::format("expected a sphere radius between {:g} and {:g} m, got {:g} m",
+                                   smallest_sphere_radius, largest_sphere_radius, s.radius))
           .with_key(name + ".spheres[" + std::to_string(i) + "]");
     }
     if (!(std::abs(s.centre.x) <= largest_sphere_radius && std::abs(s.centre.y) <= largest_sphere_radius &&
           std::abs(s.centre.z) <= largest_sphere_radius)) {
-      throw InputError(fmt::format("expected a sphere centre within {:g} m of the template's origin", largest_sphere_radius))
+      throw InputError(
+          fmt::format("expected a sphere centre within {:g} m of the template's origin", largest_sphere_radius))
           .with_key(name + ".spheres[" + std::to_string(i) + "]");
     }
   }

@@ -21,9 +21,10 @@ std::string check_bodies(const RunGuards& guards, const Simulation& sim) {
                         std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(w.x) && std::isfinite(w.y) &&
                         std::isfinite(w.z);
     if (!finite) {
-      return fmt::format("particle {} has a position, velocity or spin that is not a finite number (NaN or "
-                         "infinite): the state has blown up",
-                         ps.body_id[b]);
+      return fmt::format(
+          "particle {} has a position, velocity or spin that is not a finite number (NaN or "
+          "infinite): the state has blown up",
+          ps.body_id[b]);
     }
     const double speed = norm(v);
     if (speed > guards.max_speed) {
@@ -55,28 +56,29 @@ std::string check_guards(const RunGuards& guards, GuardClock& clock, const Simul
                          double peak_overlap, const ParticleTally& tally) {
   if (std::string why = check_bodies(guards, sim); !why.empty()) return why;
   if (!std::isfinite(peak_overlap) || peak_overlap >= 1.0) {
-    return fmt::format("an overlap reached {:.0f} % of the smaller radius: a sphere's centre inside its neighbour or "
-                       "behind a wall (a part that appeared inside the grain, contacts far too soft, or a time "
-                       "step far too long)",
-                       100.0 * peak_overlap);
+    return fmt::format(
+        "an overlap reached {:.0f} % of the smaller radius: a sphere's centre inside its neighbour or "
+        "behind a wall (a part that appeared inside the grain, contacts far too soft, or a time "
+        "step far too long)",
+        100.0 * peak_overlap);
   }
   if (peak_overlap > guards.max_overlap) {
     if (clock.deep_since < 0.0) clock.deep_since = since;
     if (sim.time() - clock.deep_since >= guards.overlap_time) {
-      return fmt::format("overlaps deeper than {:.0f} % of the smaller radius (the guard's "
-                         "simulation.guards.max_overlap) have lasted {:.4g} s, longer than its overlap_time {:g} s "
-                         "(at the last check {:.0f} %): the grain is crushed into itself or into a part",
-                         100.0 * guards.max_overlap, sim.time() - clock.deep_since, guards.overlap_time,
-                         100.0 * peak_overlap);
+      return fmt::format(
+          "overlaps deeper than {:.0f} % of the smaller radius (the guard's "
+          "simulation.guards.max_overlap) have lasted {:.4g} s, longer than its overlap_time {:g} s "
+          "(at the last check {:.0f} %): the grain is crushed into itself or into a part",
+          100.0 * guards.max_overlap, sim.time() - clock.deep_since, guards.overlap_time, 100.0 * peak_overlap);
     }
   } else {
     clock.deep_since = -1.0;
   }
-  if (tally.created > 0 &&
-      static_cast<double>(tally.lost) > guards.max_lost * static_cast<double>(tally.created)) {
-    return fmt::format("{} of the {} particles created have left the domain, more than the guard's {:.0f} % "
-                       "(simulation.guards.max_lost): the vessel does not hold the grain",
-                       tally.lost, tally.created, 100.0 * guards.max_lost);
+  if (tally.created > 0 && static_cast<double>(tally.lost) > guards.max_lost * static_cast<double>(tally.created)) {
+    return fmt::format(
+        "{} of the {} particles created have left the domain, more than the guard's {:.0f} % "
+        "(simulation.guards.max_lost): the vessel does not hold the grain",
+        tally.lost, tally.created, 100.0 * guards.max_lost);
   }
   return "";
 }

@@ -127,7 +127,7 @@ RunSummary read_run_summary(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(out.file, ec)) {
     throw InputError(fs::is_directory(path, ec) ? "no summary.json here: expected the output folder of `bushel run`"
-                                            : "no such run folder or summary file")
+                                                : "no such run folder or summary file")
         .at(path);
   }
   Json j;

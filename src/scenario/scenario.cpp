@@ -318,8 +318,8 @@ double read_time_step(const ScenarioNode& parent, double rayleigh_step, double& 
 std::vector<std::string> SensorSpec::values(const std::vector<std::string>& type_names) const {
   switch (kind) {
     case Kind::region: {
-      std::vector<std::string> v = {"mass",         "count", "bulk_density", "bulk_density_exact", "packing_fraction",
-                                    "coordination", "volume",       "surface_margin"};
+      std::vector<std::string> v = {"mass",         "count",  "bulk_density",  "bulk_density_exact", "packing_fraction",
+                                    "coordination", "volume", "surface_margin"};
       for (const auto& t : type_names) v.push_back("fraction_" + t);
       return v;
     }
@@ -438,8 +438,8 @@ Scenario read_scenario(ScenarioDocument document) {
   SimulationSettings& st = sc.settings;
   st.gravity = sim.vector_or("gravity", dim::acceleration, {0, 0, -9.81});
   if (norm(st.gravity) > max_gravity) {
-    throw sim.at("gravity").error(fmt::format("expected at most {:g} m/s2 (about 100 g), got {:.4g} m/s2",
-                                              max_gravity, norm(st.gravity)));
+    throw sim.at("gravity").error(
+        fmt::format("expected at most {:g} m/s2 (about 100 g), got {:.4g} m/s2", max_gravity, norm(st.gravity)));
   }
   if (sim.has("integrator")) {
     st.integrator = sim.at("integrator").choice({"symplectic_euler", "velocity_verlet"}) == "velocity_verlet"
@@ -638,9 +638,10 @@ Scenario read_scenario(ScenarioDocument document) {
       }
       spec.velocity = f.vector_or("velocity", dim::velocity, {});
       if (norm(spec.velocity) > sc.guards.max_speed) {
-        throw f.at("velocity").error(fmt::format("a speed of {:.4g} m/s, above the guard's {:g} m/s "
-                                                 "(simulation.guards.max_speed): the run would stop at once",
-                                                 norm(spec.velocity), sc.guards.max_speed));
+        throw f.at("velocity")
+            .error(fmt::format("a speed of {:.4g} m/s, above the guard's {:g} m/s "
+                               "(simulation.guards.max_speed): the run would stop at once",
+                               norm(spec.velocity), sc.guards.max_speed));
       }
       spec.start = f.non_negative_or("start", dim::time, 0.0);
       spec.stop = f.has("stop") ? f.positive("stop", dim::time) : std::numeric_limits<double>::infinity();

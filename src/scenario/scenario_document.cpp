@@ -151,7 +151,7 @@ struct Substitution {
   const std::vector<std::string>& names;
   const std::string& file;
   std::map<std::string, std::string> from_command_line;  // parameter -> "--set parameters.p=v"
-  std::map<std::string, std::string>& set_by;             // filled: key path -> that --set
+  std::map<std::string, std::string>& set_by;            // filled: key path -> that --set
 };
 
 // The `--set` behind a scalar's ${...}, if one of the parameters it names was set so; "".

@@ -31,7 +31,8 @@ InputError ScenarioNode::error(const std::string& problem) const {
   // A value set with --set has no line in the file: the error points at the command line.
   const int l = line();
   const auto set = set_by_ != nullptr ? set_by_->find(path_) : std::map<std::string, std::string>::const_iterator{};
-  const std::string from = set_by_ != nullptr && set != set_by_->end() ? " (the value comes from " + set->second + ")" : "";
+  const std::string from =
+      set_by_ != nullptr && set != set_by_->end() ? " (the value comes from " + set->second + ")" : "";
   InputError e = InputError(problem + from).at(l > 0 ? file_ : "command line (--set)", l);
   return path_.empty() ? e : e.with_key(path_);
 }

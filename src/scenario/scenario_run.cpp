@@ -467,7 +467,8 @@ class Runner {
     if (in) {
       load(*in);
       if (!pos_.failed.empty()) {
-        throw InputError("this run failed " + pos_.failed + "; it cannot be continued: correct the scenario and "
+        throw InputError("this run failed " + pos_.failed +
+                         "; it cannot be continued: correct the scenario and "
                          "start it again (--overwrite)")
             .at(o_.out_dir);
       }
@@ -482,8 +483,9 @@ class Runner {
       // Rows after the checkpoint were written by the stopped run: they are written again.
       std::error_code ec;
       if (fs::file_size(series_path, ec) < pos_.series_bytes || ec) {
-        throw InputError("timeseries.csv is shorter than the checkpoint says (another run's, or cut): the run "
-                         "cannot be continued here")
+        throw InputError(
+            "timeseries.csv is shorter than the checkpoint says (another run's, or cut): the run "
+            "cannot be continued here")
             .at(series_path.string());
       }
       fs::resize_file(series_path, pos_.series_bytes, ec);
@@ -888,10 +890,11 @@ class Runner {
     const auto m = std::find_if(r.values.begin(), r.values.end(),
                                 [&](const auto& x) { return x.first == sensor + ".surface_margin"; });
     if (m == r.values.end() || m->second >= 0.0) return "";
-    return fmt::format("region sensor '{}' was not full at the end of stage '{}': the grain surface's lowest "
-                       "point lay {:.1f} mm below its top, so its {} counts empty space (a lower sensor, or more "
-                       "grain)",
-                       sensor, r.name, -1e3 * m->second, what);
+    return fmt::format(
+        "region sensor '{}' was not full at the end of stage '{}': the grain surface's lowest "
+        "point lay {:.1f} mm below its top, so its {} counts empty space (a lower sensor, or more "
+        "grain)",
+        sensor, r.name, -1e3 * m->second, what);
   }
 
   // The stage of this name (names are unique), or null.
@@ -1012,7 +1015,8 @@ void clear_output(const RunOptions& o) {
   }
   for (const fs::path& p : found) {
     fs::remove_all(p, ec);
-    if (ec) throw InputError("cannot remove the earlier run's " + p.filename().string() + ": " + ec.message()).at(o.out_dir);
+    if (ec)
+      throw InputError("cannot remove the earlier run's " + p.filename().string() + ": " + ec.message()).at(o.out_dir);
   }
 }
 

@@ -54,9 +54,9 @@ class StructureCheck : public YAML::EventHandler {
  private:
   struct Open {
     bool map = false;
-    bool key_next = true;          // (a map) the next node is a key
-    YAML::anchor_t anchor = 0;     // its own anchor, if any
-    std::size_t values = 1;        // values inside it, aliases expanded, itself included
+    bool key_next = true;             // (a map) the next node is a key
+    YAML::anchor_t anchor = 0;        // its own anchor, if any
+    std::size_t values = 1;           // values inside it, aliases expanded, itself included
     std::map<std::string, int> keys;  // (a map) key -> line
   };
 
@@ -66,8 +66,8 @@ class StructureCheck : public YAML::EventHandler {
 
   void open(const YAML::Mark& mark, YAML::anchor_t anchor, bool map) {
     if (expecting_key()) {
-      fail(line_of(mark), fmt::format("a {} as a key (a complex key, '? ...'): keys are plain names",
-                                      map ? "map" : "list"));
+      fail(line_of(mark),
+           fmt::format("a {} as a key (a complex key, '? ...'): keys are plain names", map ? "map" : "list"));
     }
     count(1);
     stack_.push_back({map, true, anchor, 1, {}});

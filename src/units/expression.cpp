@@ -17,9 +17,9 @@ bool name_char(char c) { return name_start(c) || std::isdigit(static_cast<unsign
 
 // Limits that keep a hostile or mistyped expression from exhausting the stack or overflowing
 // an exponent: no scenario needs more than a few levels of parentheses or a unit to the 4th.
-constexpr int max_depth = 64;          // nested parentheses, functions and unary minuses
-constexpr int max_exponent = 32;       // of any base dimension, e.g. m^32
-constexpr std::size_t max_length = 4096;  // characters of one expression
+constexpr int max_depth = 64;              // nested parentheses, functions and unary minuses
+constexpr int max_exponent = 32;           // of any base dimension, e.g. m^32
+constexpr std::size_t max_length = 4096;   // characters of one expression
 constexpr std::size_t quoted_length = 60;  // characters of it that an error message quotes
 
 // The text as an error message quotes it: whole when short, else its start and "...".

@@ -169,12 +169,14 @@ TEST(ScenarioDocument, RefusesWhatYamlAllowsButAScenarioMustNotHold) {
   }
   EXPECT_NE(std::string(refused(laughs).what()).find("more than 100000 values"), std::string::npos);
   // a parameter nobody declared cannot be set; a --set behind a value is named in its errors
-  const InputError undeclared = error_of(
-      [] { parse_scenario_document("parameters:\n  mass: 1 kg\n", "s.yaml", std::vector<Override>{parse_override("parameters.mas=2")}); });
+  const InputError undeclared = error_of([] {
+    parse_scenario_document("parameters:\n  mass: 1 kg\n", "s.yaml",
+                            std::vector<Override>{parse_override("parameters.mas=2")});
+  });
   EXPECT_NE(std::string(undeclared.what()).find("declares no parameter 'mas' (did you mean 'mass'?)"),
             std::string::npos);
-  const ScenarioDocument doc = parse_scenario_document("parameters:\n  m: 1 kg\nf:\n  mass: ${m}\n  n: 2\n",
-                                                       "s.yaml", std::vector<Override>{parse_override("parameters.m=3x")});
+  const ScenarioDocument doc = parse_scenario_document("parameters:\n  m: 1 kg\nf:\n  mass: ${m}\n  n: 2\n", "s.yaml",
+                                                       std::vector<Override>{parse_override("parameters.m=3x")});
   EXPECT_EQ(doc.set_by.at("f.mass"), "--set parameters.m=3x");
   EXPECT_FALSE(doc.set_by.contains("f.n"));
 }

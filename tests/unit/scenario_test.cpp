@@ -504,8 +504,8 @@ TEST_F(ScenarioRun, SaysHowManyKernelsLeftTheDomainAndInWhichStage) {
 )"),
                                        "size: 80 80 20 mm}}", "size: 80 80 20 mm}, enabled: false}");
   // (every kernel leaves: the lost guard, which stops a run at half, is told to let them)
-  const std::string all_lost = replaced(dropped, "  time_step: 0.2 rayleigh\n",
-                                        "  time_step: 0.2 rayleigh\n  guards: {max_lost: 100%}\n");
+  const std::string all_lost =
+      replaced(dropped, "  time_step: 0.2 rayleigh\n", "  time_step: 0.2 rayleigh\n  guards: {max_lost: 100%}\n");
   const double kernel_g = 1e3 * 1373.0 * std::numbers::pi / 6.0 * std::pow(3.64e-3, 3);
   auto lost_warnings = [](const RunReport& r) {
     std::vector<std::string> out;
@@ -740,10 +740,11 @@ TEST_F(ScenarioRun, AGuardStopsARunGoneWrongWithACheckpointAndAFailedSummary) {
   // A plane that appears inside the settled grain (a part enabled in the wrong place): the
   // overlaps pass 100 % of a radius at once, the run stops in that stage with its checkpoint
   // and a summary marked failed, and it cannot be continued.
-  const std::string text = replaced(
-      replaced(small, "  cup: {shape: cylinder", "  slab: {shape: plane, position: 0 0 3 mm, normal: 0 0 1, "
-                                                 "material: steel, enabled: false}\n  cup: {shape: cylinder"),
-      "outputs:\n", "  - name: squash\n    enable: [slab]\n    until: {time: 20 ms}\noutputs:\n");
+  const std::string text =
+      replaced(replaced(small, "  cup: {shape: cylinder",
+                        "  slab: {shape: plane, position: 0 0 3 mm, normal: 0 0 1, "
+                        "material: steel, enabled: false}\n  cup: {shape: cylinder"),
+               "outputs:\n", "  - name: squash\n    enable: [slab]\n    until: {time: 20 ms}\noutputs:\n");
   const Scenario sc = read(text, {parse_override("parameters.count=60")});
   const RunReport r = run(sc);
   EXPECT_FALSE(r.interrupted);
@@ -759,22 +760,22 @@ TEST_F(ScenarioRun, AGuardStopsARunGoneWrongWithACheckpointAndAFailedSummary) {
   EXPECT_NE(thrown_by([&] { resume_scenario(o); }).find("this run failed at t = "), std::string::npos);
 
   // Every particle leaving through a missing floor: the lost guard at half of them.
-  const std::string floorless =
-      replaced(replaced(small, "cap_bottom: true", "cap_bottom: false"), "size: 80 80 20 mm}}",
-               "size: 80 80 20 mm}, enabled: false}");
+  const std::string floorless = replaced(replaced(small, "cap_bottom: true", "cap_bottom: false"),
+                                         "size: 80 80 20 mm}}", "size: 80 80 20 mm}, enabled: false}");
   const RunReport lost = run(read(floorless, {parse_override("parameters.count=40")}));
   EXPECT_NE(lost.failed.find("of the 40 particles created have left the domain, more than the guard's 50 %"),
             std::string::npos)
       << lost.failed;
   // and the same run with the guard at 100 % goes to its end
-  const RunReport allowed = run(read(replaced(floorless, "  time_step: 0.2 rayleigh\n",
-                                              "  time_step: 0.2 rayleigh\n  guards: {max_lost: 100%}\n"),
-                                     {parse_override("parameters.count=40")}));
+  const RunReport allowed = run(read(
+      replaced(floorless, "  time_step: 0.2 rayleigh\n", "  time_step: 0.2 rayleigh\n  guards: {max_lost: 100%}\n"),
+      {parse_override("parameters.count=40")}));
   EXPECT_TRUE(allowed.failed.empty()) << allowed.failed;
 }
 
 TEST_F(ScenarioRun, RefusesAnOutputFolderOfAnotherRunUnlessToldToReplaceIt) {
-  const Scenario sc = read(small, {parse_override("parameters.count=20"), parse_override("stages.1.until.max_time=30ms")});
+  const Scenario sc =
+      read(small, {parse_override("parameters.count=20"), parse_override("stages.1.until.max_time=30ms")});
   RunOptions o;
   o.out_dir = path("out");
   o.progress = false;
@@ -873,8 +874,7 @@ TEST_F(ScenarioRun, NamesItsEngineAndSaysWhenAnotherBuildContinuedIt) {
   o.interrupt_at = std::numeric_limits<double>::infinity();
   const RunReport r = resume_scenario(o);
   ASSERT_FALSE(r.interrupted);
-  EXPECT_EQ(engine()["builds"],
-            nlohmann::json::array({other, build_description()}));
+  EXPECT_EQ(engine()["builds"], nlohmann::json::array({other, build_description()}));
   ASSERT_FALSE(r.warnings.empty());
   EXPECT_NE(r.warnings.back().find("continued from a checkpoint by another engine build"), std::string::npos)
       << r.warnings.back();

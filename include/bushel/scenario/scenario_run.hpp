@@ -21,7 +21,7 @@
 namespace bushel {
 
 struct RunOptions {
-  std::string out_dir;               ///< created if missing
+  std::string out_dir;  ///< created if missing
   /// A fresh run into a folder that holds another run's outputs replaces them (they are removed
   /// first); false: such a folder is an InputError.
   bool overwrite = false;
