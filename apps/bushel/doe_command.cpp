@@ -490,21 +490,28 @@ std::vector<std::string> scenario_command(const DoeOptions& o, const std::vector
   return command;
 }
 
-// A command that leaves out one of the design's factor columns would run rows that differ only
-// in it as the same run.
+// A command that uses none of the design's factor columns would run every row the same: an
+// error. One that leaves some out runs the rows that differ only in them the same: said.
 void check_command_uses_factors(const DoeOptions& o) {
   const io::CsvTable design = io::CsvTable::read(o.file);
   std::string joined;
   for (const std::string& a : o.command) joined += a + ' ';
+  std::vector<std::string> unused, used;
   for (const std::string& h : design.header()) {
     if (std::find(bookkeeping_columns.begin(), bookkeeping_columns.end(), h) != bookkeeping_columns.end()) continue;
-    if (joined.find('{' + h + '}') == std::string::npos) {
-      throw InputError(fmt::format("the design's factor '{}' is not in the command (as {{{}}}): rows that differ "
-                                   "in it would run the same",
-                                   h, h))
-          .with_key("command")
-          .at(o.file);
-    }
+    (joined.find('{' + h + '}') == std::string::npos ? unused : used).push_back(h);
+  }
+  if (used.empty() && !unused.empty()) {
+    throw InputError(fmt::format("the command uses none of the design's factors ({}) as {{NAME}}: every row would "
+                                 "run the same",
+                                 fmt::join(unused, ", ")))
+        .with_key("command")
+        .at(o.file);
+  }
+  if (!unused.empty()) {
+    fmt::print(stderr, "bushel: warning: the command leaves out the design's factor{} {}: rows that differ only in {} "
+                       "run the same\n",
+               unused.size() == 1 ? "" : "s", fmt::join(unused, ", "), unused.size() == 1 ? "it" : "them");
   }
 }
 

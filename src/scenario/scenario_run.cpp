@@ -592,20 +592,6 @@ class Runner {
     if (!engine.done()) engine.damaged("unexpected data at the end of section 'engine'");
   }
 
-  // A factory asked for everything at once that could not place it all: said once, with what
-  // it made, since the rest waits for room that may never come.
-  void warn_if_crowded(const Factory& f) {
-    if (f.spec().rate > 0.0 || f.report().waiting == 0) return;
-    const std::string head = fmt::format("factory '{}' ", f.spec().name);
-    if (std::any_of(pos_.warnings.begin(), pos_.warnings.end(), [&](const auto& w) { return w.starts_with(head); })) {
-      return;
-    }
-    pos_.warnings.push_back(fmt::format(
-        "{}(everything at once) found room for {} particles; {} more wait for room ({} random places tried for "
-        "each): a larger region, or a rate",
-        head, f.report().total_count, f.report().waiting, f.spec().attempts));
-  }
-
   // The particles created and lost so far, for the lost guard.
   ParticleTally tally() const {
     ParticleTally t{st_.lost.total_count(), 0};
@@ -749,7 +735,6 @@ class Runner {
           const FactorySpec& spec = st_.factories[f].spec();
           const double active = std::max(0.0, std::min(sim.time(), spec.stop) - std::max(before, spec.start));
           if (active > 0.0) st_.factories[f].run(sim, active);
-          warn_if_crowded(st_.factories[f]);
         }
         apply_sinks(sim, st_.sinks, sc_.domain, st_.lost);
         for (auto& f : st_.flows) f.update(sim.particles(), sim.time());

@@ -48,7 +48,7 @@ CASES = [
     ("self-referencing alias", "a: &x [1, *x]\n", r":1: an alias \(\*name\) to the list or map that contains it", 1),
     ("alias fan-out", laughs(), r"more than 100000 values once its aliases", 1),
     ("duplicate parameter", replaced("  rate: 0.5 kg/s\n", "  rate: 0.5 kg/s\n  mass: 20 g\n"),
-     r":7: the key 'mass' appears twice in one map \(lines 5 and 7\)", 1),
+     r":(\d+): the key 'mass' appears twice in one map \(lines \d+ and \1\)", 1),
     ("duplicate material", replaced("  steel: {", "  wheat: {shear_modulus: 1 GPa, poisson_ratio: 0.3, density: 1000 kg/m3}\n  steel: {"),
      r"the key 'wheat' appears twice", 1),
     ("second document", BASE + "---\nstages: []\n", r":\d+: a second YAML document", 1),
@@ -100,7 +100,7 @@ CASES = [
     ("doe zero runs", ["doe", "design", "lhs", "--factors", "mu=0.2:0.4", "--runs", "0"],
      r"--runs: Value 0 not in range", 105),
     ("doe analyze --out /dev/null", None, r"key '--out': expected a folder for the tables and plots", 1),
-    ("doe command without a factor", None, r"the design's factor 'k' is not in the command", 1),
+    ("doe command without a factor", None, r"key 'command': the command uses none of the design's factors \(mu, k\)", 1),
     ("doe scenario without the factor", None, r"--set parameters\.mu: the scenario declares no parameter 'mu'.*\(design row on line 2 of", 1),
 ]
 
@@ -131,7 +131,7 @@ def prepared(name):
         return ["doe", "analyze", os.path.join(work, "responses.csv"), "--factors", "mu,k", "--response", "y",
                 "--out", "/dev/null"]
     if name.startswith("doe command"):
-        return ["doe", "run", design, "--out", os.path.join(work, "camp"), "--response", "y", "--", "echo", "{mu}"]
+        return ["doe", "run", design, "--out", os.path.join(work, "camp"), "--response", "y", "--", "echo", "hello"]
     if name.startswith("doe scenario"):
         return ["doe", "run", design, "--out", os.path.join(work, "camp2"), "--response", "bulk_density",
                 "--scenario", CUP]
