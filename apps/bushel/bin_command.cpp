@@ -274,7 +274,7 @@ void run_bin(const BinOptions& o) {
         {"compaction_factor", compaction_factor(p)},
         {"pack_factor", pack_factor(p, d0, d_s)},
     };
-    fmt::print("{}\n", j.dump(2));
+    fmt::print("{}\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
     return;
   }
   fmt::print("bin                     {}\n", describe(spec));

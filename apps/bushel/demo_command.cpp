@@ -95,7 +95,7 @@ void run_demo(const DemoOptions& o) {
                                       {"bulk_density_kg_m3", m.bulk_density},
                                       {"packing_fraction", m.packing_fraction},
                                       {"wall_time_s", wall}};
-    fmt::print("{}\n", j.dump(2));
+    fmt::print("{}\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
     return;
   }
   fmt::print("{} after {:.2f} s simulated ({} steps, {:.1f} s wall)\n", is_settled ? "settled" : "NOT settled",

@@ -116,7 +116,7 @@ void run_funnel(const FunnelOptions& o) {
                                     {"time_90_percent_s", t90},
                                     {"mass_flow_kg_s", rate}};
   if (o.json) {
-    fmt::print("{}\n", j.dump(2));
+    fmt::print("{}\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
     return;
   }
   fmt::print("gate angle at the end         {:.1f} deg\n", gate_angle() * 180 / std::numbers::pi);

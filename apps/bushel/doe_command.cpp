@@ -253,7 +253,7 @@ void write_outputs(const Analysis& a, const DoeOptions& o) {
   }
   io::write_file_atomically((dir / "anova.csv").string(), anova);
   const std::string json_path = (dir / "analysis.json").string();
-  io::write_file_atomically(json_path, to_json(a, o).dump(2));
+  io::write_file_atomically(json_path, to_json(a, o).dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
   io::run_python(plot_script, {json_path, o.plots});
   if (!o.json) {
     fmt::print(
@@ -266,7 +266,7 @@ void write_outputs(const Analysis& a, const DoeOptions& o) {
 void run_analyze(const DoeOptions& o) {
   const Analysis a = analyze(o);
   if (o.json) {
-    fmt::print("{}\n", to_json(a, o).dump(2));
+    fmt::print("{}\n", to_json(a, o).dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
   } else {
     print_analysis(a, o);
   }
@@ -328,7 +328,7 @@ void run_optimize(const DoeOptions& o) {
       for (std::size_t r = 0; r < responses.size(); ++r) {
         j["responses"][responses[r]] = {{"predicted", c.predicted[r]}, {"desirability", c.individual[r]}};
       }
-      fmt::print("{}\n", j.dump(2));
+      fmt::print("{}\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
       return;
     }
     fmt::print("best compromise, composite desirability {:.4f}\n", c.composite);
@@ -357,7 +357,7 @@ void run_optimize(const DoeOptions& o) {
     j["prediction_interval_95"] = {predicted - half, predicted + half};
     j["runs"] = a.fit.runs;
     j["excluded_lines"] = a.table.excluded_lines;
-    fmt::print("{}\n", j.dump(2));
+    fmt::print("{}\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
     return;
   }
   print_runs(a, o);
@@ -509,8 +509,9 @@ void check_command_uses_factors(const DoeOptions& o) {
         .at(o.file);
   }
   if (!unused.empty()) {
-    fmt::print(stderr, "bushel: warning: the command leaves out the design's factor{} {}: rows that differ only in {} "
-                       "run the same\n",
+    fmt::print(stderr,
+               "bushel: warning: the command leaves out the design's factor{} {}: rows that differ only in {} "
+               "run the same\n",
                unused.size() == 1 ? "" : "s", fmt::join(unused, ", "), unused.size() == 1 ? "it" : "them");
   }
 }

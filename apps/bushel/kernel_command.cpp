@@ -30,7 +30,7 @@ void run_kernel(const KernelOptions& o) {
         {"flatness", f.flatness},
         {"elongation", f.elongation},
     };
-    fmt::print("{}\n", j.dump(2));
+    fmt::print("{}\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
     return;
   }
   fmt::print("kernel                 {:.3f} x {:.3f} x {:.3f} mm (length x width x thickness)\n", d.length * 1e3,

@@ -87,7 +87,7 @@ void print_list(const Material& m, bool json, bool csv) {
   if (json) {
     auto all = nlohmann::ordered_json::array();
     for (const auto& name : lib.names()) all.push_back(to_json({lib.get(name), m}, false));
-    fmt::print("{}\n", all.dump(2));
+    fmt::print("{}\n", all.dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
   } else if (csv) {
     fmt::print(
         "template,spheres,volume_m3,mass_kg,equivalent_diameter_m,aspect_ratio,inertia_x_kg_m2,"
@@ -152,7 +152,7 @@ void run_particle(const ParticleOptions& o) {
   }
   const Row r{t, m};
   if (o.json) {
-    fmt::print("{}\n", to_json(r, true).dump(2));
+    fmt::print("{}\n", to_json(r, true).dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
   } else {
     print_table(r);
   }

@@ -123,7 +123,7 @@ void add_run_command(CLI::App& app) {
                                         {"wall_time_s", summary.wall_time},
                                         {"particle_steps_per_s", summary.particle_steps_per_s},
                                         {"warnings", summary.warnings}};
-      fmt::print("{}\n", j.dump(2));
+      fmt::print("{}\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
       return;
     }
     for (const auto& s : r.stages) {

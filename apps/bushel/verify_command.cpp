@@ -29,7 +29,8 @@ void run_verify(const VerifyOptions& o) {
                    {"tolerance", r.tolerance},
                    {"pass", r.pass}});
     }
-    fmt::print("{}\n", nlohmann::ordered_json{{"checks", a}, {"failed", failed}}.dump(2));
+    fmt::print("{}\n", nlohmann::ordered_json{{"checks", a}, {"failed", failed}}.dump(
+                           2, ' ', false, nlohmann::json::error_handler_t::replace));
   } else {
     fmt::print("{:<58} {:<22} {:>12} {:>12} {:>10} {:>9}  {}\n", "check", "quantity", "expected", "measured", "error",
                "tolerance", "result");

@@ -209,7 +209,8 @@ void finish_run(Campaign& c, std::size_t i, int status) {
       row.responses.push_back(response_value(j, c.spec.response_root.empty() ? key : c.spec.response_root + "." + key));
       done[key] = row.responses.back();
     }
-    io::write_file_atomically((dir / "done.json").string(), done.dump(2));
+    io::write_file_atomically((dir / "done.json").string(),
+                              done.dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
     row.status = "done";
   } catch (const std::exception& e) {
     std::ofstream(dir / "stderr.txt", std::ios::app) << "bushel doe run: " << e.what() << "\n";

@@ -171,7 +171,7 @@ std::string report_figures_json(const Report& report) {
                        {"categories", f->categories},
                        {"series", series}});
   }
-  return figures.dump(1) + "\n";
+  return figures.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace bushel

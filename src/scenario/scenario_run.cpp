@@ -962,7 +962,9 @@ class Runner {
     j["final"] = values_json(st_.named_values());
     j["final_state_hash"] = fmt::format("{:016x}", state_hash(st_.sim.particles()));
     j["warnings"] = warnings;
-    io::write_file_atomically((fs::path(o_.out_dir) / "summary.json").string(), j.dump(2) + "\n");
+    // (bytes that are not UTF-8 in a name from a file are replaced: a summary is never lost to them)
+    io::write_file_atomically((fs::path(o_.out_dir) / "summary.json").string(),
+                              j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   }
 
   const Scenario& sc_;
