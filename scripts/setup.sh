@@ -9,13 +9,16 @@ set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
-# One list, kept in step with ARCHITECTURE.md ("Dependencies").
+# One list, kept in step with ARCHITECTURE.md ("Dependencies"). clang 16 (not Debian's default
+# clang 14, which cannot capture structured bindings in lambdas) builds the fuzz targets
+# (tests/fuzz, docs/fuzzing.md); llvm-16 gives their stack traces files and lines.
 packages=(
   build-essential cmake ninja-build pkg-config git
   libyaml-cpp-dev libcli11-dev libeigen3-dev nlohmann-json3-dev libfmt-dev libxxhash-dev
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev libopenmpi-dev openmpi-bin
   python3 python3-dev pybind11-dev python3-numpy python3-matplotlib
   paraview xz-utils
+  clang-16 libclang-rt-16-dev llvm-16
 )
 
 missing=()

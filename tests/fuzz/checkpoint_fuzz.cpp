@@ -4,7 +4,8 @@
 // BUSHEL_FUZZ_SEED_DIR set, it is also written there (tests/fuzz/run.sh puts it into the
 // corpus, so that the seed always has this build's format). Half of the mutants get their
 // section checksums made anew (reseal_checkpoint), so that the readers behind the checksums
-// are fuzzed too.
+// are fuzzed too. Its run folders are in $TMPDIR/bushel_checkpoint_fuzz_<pid> (libFuzzer's
+// exit does not always remove them; tests/fuzz/run.sh points TMPDIR into build/fuzz/runs/).
 #include <unistd.h>
 
 #include <cstddef>

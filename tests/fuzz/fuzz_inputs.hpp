@@ -19,6 +19,7 @@
 
 #include "bushel/core/input_error.hpp"
 #include "bushel/io/binary_archive.hpp"
+#include "bushel/io/csv.hpp"
 #include "bushel/io/stl.hpp"
 #include "bushel/particles/template_library.hpp"
 #include "bushel/scenario/scenario.hpp"
@@ -72,8 +73,7 @@ inline void stl_input(std::string_view bytes) {
   const TriangleMesh mesh = io::parse_stl(bytes, "fuzz.stl", 1.0, &report);
   check(!mesh.triangles.empty(), "a mesh without triangles was accepted");
   check(report.vertices == mesh.vertices.size(), "StlReport::vertices differs from the mesh's");
-  check(report.triangles_read == mesh.triangles.size() + report.degenerate_dropped,
-        "triangles read != kept + dropped");
+  check(report.triangles_read == mesh.triangles.size() + report.degenerate_dropped, "triangles read != kept + dropped");
   for (const auto& t : mesh.triangles) {
     for (const auto v : t) check(v < mesh.vertices.size(), "a triangle indexes a missing vertex");
   }
@@ -165,10 +165,7 @@ outputs:
     return resume_scenario(o);
   }
 
-  static std::string read_file(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  }
+  static std::string read_file(const std::filesystem::path& path) { return io::read_text_file(path.string()); }
   static void write_file(const std::filesystem::path& path, std::string_view bytes) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));

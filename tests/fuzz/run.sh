@@ -36,19 +36,24 @@ start=$SECONDS
 cmake --build --preset fuzz
 echo "run.sh: build ready in $((SECONDS - start)) s"
 
+# (stack traces with files and lines: the symbolizer of the clang that built the targets)
+symbolizer=$(command -v llvm-symbolizer-16 || command -v llvm-symbolizer || true)
+[[ -z $symbolizer ]] || export ASAN_SYMBOLIZER_PATH=$symbolizer
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:symbolize=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 failed=()
 for t in "${targets[@]}"; do
   work=$build/runs/$t
   rm -rf "$work"
-  mkdir -p "$work/corpus" "$work/artifacts"
-  cp tests/fuzz/corpus/"$t"/* "$work/corpus/"
-  if compgen -G "tests/fuzz/regressions/$t/*" >/dev/null; then cp tests/fuzz/regressions/"$t"/* "$work/corpus/"; fi
+  mkdir -p "$work/corpus" "$work/artifacts" "$work/tmp"
+  for seeds in tests/fuzz/corpus/"$t" tests/fuzz/regressions/"$t"; do
+    if compgen -G "$seeds/*" >/dev/null; then cp "$seeds"/* "$work/corpus/"; fi
+  done
   echo "run.sh: $t for $seconds s (log: $work/fuzz.log)"
   rc=0
-  # (the checkpoint target writes the seed made by this build into the corpus: fuzz_inputs.hpp)
-  BUSHEL_FUZZ_SEED_DIR=$root/$work/corpus \
+  # (the checkpoint target writes the seed made by this build into the corpus, and its runs'
+  # folders into TMPDIR, which libFuzzer's exit leaves behind: checkpoint_fuzz.cpp)
+  TMPDIR=$root/$work/tmp BUSHEL_FUZZ_SEED_DIR=$root/$work/corpus \
     "$build/fuzz/${t}_fuzz" -max_total_time="$seconds" -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2048 \
     -artifact_prefix="$work/artifacts/" -print_final_stats=1 ${FUZZ_FLAGS:-} "$work/corpus" >"$work/fuzz.log" 2>&1 || rc=$?
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$work/fuzz.log" | tail -1)
