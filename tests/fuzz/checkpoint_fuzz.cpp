@@ -4,7 +4,7 @@
 // BUSHEL_FUZZ_SEED_DIR set, it is also written there (tests/fuzz/run.sh puts it into the
 // corpus, so that the seed always has this build's format). Half of the mutants get their
 // section checksums made anew (reseal_checkpoint), so that the readers behind the checksums
-// are fuzzed too. Its run folders are in $TMPDIR/bushel_checkpoint_fuzz_<pid> (libFuzzer's
+// are fuzzed too, unless BUSHEL_FUZZ_RESEAL=0. Its run folders are in $TMPDIR/bushel_checkpoint_fuzz_<pid> (libFuzzer's
 // exit does not always remove them; tests/fuzz/run.sh points TMPDIR into build/fuzz/runs/).
 #include <unistd.h>
 
@@ -20,6 +20,12 @@
 
 namespace {
 std::unique_ptr<bushel::fuzz::CheckpointInput> harness;
+// BUSHEL_FUZZ_RESEAL=0: mutants keep their broken checksums (damage, which must always be
+// refused); otherwise half are resealed (forgeries that reach the readers behind them).
+const bool reseal = [] {
+  const char* v = std::getenv("BUSHEL_FUZZ_RESEAL");
+  return v == nullptr || std::string_view(v) != "0";
+}();
 }
 
 extern "C" std::size_t LLVMFuzzerMutate(std::uint8_t* data, std::size_t size, std::size_t max_size);
@@ -37,7 +43,7 @@ extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
 extern "C" std::size_t LLVMFuzzerCustomMutator(std::uint8_t* data, std::size_t size, std::size_t max_size,
                                                unsigned int seed) {
   size = LLVMFuzzerMutate(data, size, max_size);
-  if (seed % 2 == 0) {
+  if (reseal && seed % 2 == 0) {
     std::string bytes(reinterpret_cast<const char*>(data), size);
     if (bushel::fuzz::reseal_checkpoint(bytes)) std::memcpy(data, bytes.data(), size);
   }

@@ -67,6 +67,13 @@ class BinaryReader {
     if (n > 0) std::memcpy(v.data(), bytes_.data() + at_, n * sizeof(T));
     at_ += n * sizeof(T);
   }
+  /// A flag: a byte that must be 0 or 1 (any other value would be undefined as a bool).
+  void get(bool& v) {
+    std::uint8_t b = 0;
+    get(b);
+    if (b > 1) damaged("a flag that is neither 0 nor 1");
+    v = b != 0;
+  }
   void get(std::vector<bool>& v) {
     const std::uint64_t n = count(1);
     v.resize(n);
