@@ -130,17 +130,15 @@ void add_run_command(CLI::App& app) {
       fmt::print("stage {:<12} ended by {:<15} t = {:.4f} s\n", s.name, s.ended_by, s.end);
     }
     // The headline: every bulk density the sensors measured at the end.
-    const auto& last = r.stages.back().values;
-    for (const auto& [name, value] : last) {
+    const StageReport& last = r.stages.back();
+    for (const auto& [name, value] : last.values) {
       if (!name.ends_with(".bulk_density")) continue;
-      const std::string margin =
-          name.substr(0, name.size() - std::string_view("bulk_density").size()) + "surface_margin";
-      const auto m = std::find_if(last.begin(), last.end(), [&](const auto& x) { return x.first == margin; });
-      const bool full = m == last.end() || m->second >= 0.0;
-      fmt::print(
-          "{:<28} {:.1f} kg/m3{}\n", name, value,
-          full ? ""
-               : fmt::format("  NOT FULL: the grain surface lies {:.1f} mm below the sensor's top", -1e3 * m->second));
+      const auto below =
+          surface_shortfall(last, name.substr(0, name.size() - std::string_view(".bulk_density").size()));
+      fmt::print("{:<28} {:.1f} kg/m3{}\n", name, value,
+                 below
+                     ? fmt::format("  NOT FULL: the grain surface lies {:.1f} mm below the sensor's top", 1e3 * *below)
+                     : "");
     }
     fmt::print("{} steps, {:.3f} s simulated, {:.1f} s wall, {:.3g} particle-steps/s\n", r.steps, r.simulated_time,
                r.wall_time, r.wall_time > 0.0 ? r.particle_steps / r.wall_time : 0.0);

@@ -872,14 +872,13 @@ class Runner {
     if (dot == std::string::npos) return "";
     const std::string sensor = value.substr(0, dot), what = value.substr(dot + 1);
     if (what != "bulk_density" && what != "bulk_density_exact" && what != "packing_fraction") return "";
-    const auto m = std::find_if(r.values.begin(), r.values.end(),
-                                [&](const auto& x) { return x.first == sensor + ".surface_margin"; });
-    if (m == r.values.end() || m->second >= 0.0) return "";
+    const std::optional<double> below = surface_shortfall(r, sensor);
+    if (!below) return "";
     return fmt::format(
         "region sensor '{}' was not full at the end of stage '{}': the grain surface's lowest "
         "point lay {:.1f} mm below its top, so its {} counts empty space (a lower sensor, or more "
         "grain)",
-        sensor, r.name, -1e3 * m->second, what);
+        sensor, r.name, 1e3 * *below, what);
   }
 
   // The stage of this name (names are unique), or null.
@@ -1026,6 +1025,13 @@ RunReport run_scenario(const Scenario& sc, const RunOptions& options) {
   prepare_output(options, sc.threads);
   Runner runner(sc, options);
   return runner.run(nullptr);
+}
+
+std::optional<double> surface_shortfall(const StageReport& r, const std::string& sensor) {
+  const auto m = std::find_if(r.values.begin(), r.values.end(),
+                              [&](const auto& x) { return x.first == sensor + ".surface_margin"; });
+  if (m == r.values.end() || m->second >= 0.0) return std::nullopt;
+  return -m->second;
 }
 
 RunReport resume_scenario(const RunOptions& options) {

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -68,5 +69,10 @@ RunReport run_scenario(const Scenario& scenario, const RunOptions& options);
 /// Continues the run whose checkpoint is in options.out_dir (the scenario comes from it).
 /// Throws InputError if there is no readable checkpoint.
 RunReport resume_scenario(const RunOptions& options);
+
+/// How far [m] the grain surface lay below the top of region sensor `sensor` at the end of
+/// stage `r` (its `surface_margin`, negated), if it did: the region was not full and a density
+/// over it counts empty space; nothing if it was full or is not a region sensor.
+std::optional<double> surface_shortfall(const StageReport& r, const std::string& sensor);
 
 }  // namespace bushel
