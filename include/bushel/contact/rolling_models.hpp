@@ -35,8 +35,9 @@ struct RollingOutput {
 struct NoRolling {
   static constexpr const char* name = "none";
   static constexpr int history_size = 0;
-  static constexpr bool uses_spin = false;   ///< reads omega_i, omega_j
-  static constexpr bool has_torque = false;  ///< returns torque vectors (else only cdt_i, cdt_j)
+  static constexpr bool uses_spin = false;     ///< reads omega_i, omega_j
+  static constexpr bool has_torque = false;    ///< returns torque vectors (else only cdt_i, cdt_j)
+  static constexpr bool uses_inertia = false;  ///< reads inertia_r (computed only for models that do)
   static RollingOutput torque(const RollingInput&, Vec3&) { return {}; }
 };
 
@@ -49,6 +50,7 @@ struct CdtRolling {
   static constexpr int history_size = 0;
   static constexpr bool uses_spin = false;  // the integrator applies it against each spin
   static constexpr bool has_torque = false;
+  static constexpr bool uses_inertia = false;
   static RollingOutput torque(const RollingInput& in, Vec3&) {
     RollingOutput out;
     out.cdt_i = in.mu_r * in.normal_force * in.arm_i;
@@ -65,6 +67,7 @@ struct EpsdRolling {
   static constexpr int history_size = 3;
   static constexpr bool uses_spin = true;
   static constexpr bool has_torque = true;
+  static constexpr bool uses_inertia = true;
   static constexpr double damping_ratio = 0.3;  ///< eta_r, Ai et al.'s recommended value
   static RollingOutput torque(const RollingInput& in, Vec3& spring) {
     Vec3 w = in.omega_i - in.omega_j;

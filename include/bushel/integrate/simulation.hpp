@@ -1,19 +1,20 @@
 #pragma once
-// The time stepper: particles, geometry parts, contact laws and the neighbour list brought together
-// (ARCHITECTURE.md, "Time step"). One step:
-//   1. rebuild the neighbour list if needed (spatially sorting the particles every few builds)
-//   2. contacts, in parallel over fixed runs of elements (each about 128 pairs and part
-//      candidates): every element sums its own pairs (as first element) and its nearby
-//      geometry parts (part_contact.hpp: one contact per touch of a part's surface); the share
-//      of each pair's second element goes to the pair's slot. The contact law runs over
-//      batches of contacts at once (contact_batch.hpp).
-//   3. gather onto bodies in a fixed order (thread-count independent): the elements' own
-//      sums plus their shares as second element, summed in pair order (by the contact loop
-//      where one thread has all of an element's pairs as second, else here from pair slots)
-//   4. integrate (symplectic Euler or velocity Verlet; quaternion rigid rotation)
-//   5. move the geometry parts (motion.hpp), servos acting on the forces of step 2
+// The time stepper: particles, geometry parts, contact laws and the neighbour list brought
+// together. Simulation owns the data (src/integrate/world.hpp) and runs a step as a fixed
+// sequence of stages (src/integrate/stages.hpp; ARCHITECTURE.md, "The time step"):
+//   1. neighbours: rebuild the neighbour list and the sphere-part candidates if an element or
+//      part may have moved half the skin (spatially sorting the particles every few builds)
+//   2. contacts, in parallel over fixed chunks of elements: sphere-sphere pairs (as first
+//      element) and sphere-part contacts, through the contact law in batches
+//   3. gather onto bodies and parts in a fixed order (thread-count independent)
+//   4. servos act on the forces of step 2
+//   5. integrate (symplectic Euler or velocity Verlet; quaternion rigid rotation)
+//   6. move the geometry parts (motion.hpp)
+// Particles enter through particles().add (taken in at the next step) and leave through
+// remove_bodies.
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -21,9 +22,6 @@
 #include "bushel/contact/contact_model.hpp"
 #include "bushel/contact/contact_table.hpp"
 #include "bushel/contact/neighbor_list.hpp"
-#include "bushel/contact/pair_coefficients.hpp"
-#include "bushel/core/mat3.hpp"
-#include "bushel/geometry/face_grid.hpp"
 #include "bushel/geometry/part.hpp"
 #include "bushel/particles/particle_system.hpp"
 
@@ -49,29 +47,26 @@ struct SimulationSettings {
   double tangential_damping_limit = 0.5;
 };
 
-/// A part's faces and broad phase in its own frame, and where the frame is now (internal to
-/// the simulation; public so that the contact loop can read it).
-struct PartCache {
-  std::vector<Face> faces;
-  FaceGrid grid;  ///< used when the part has many faces (a mesh)
-  bool use_grid = false;
-  Vec3 lo, hi;         ///< bounds of the faces in the part frame [m]
-  double reach = 0.0;  ///< largest distance of a face point from the part origin [m] (inf: a plane)
-  Mat3 rotation;       ///< part frame -> world, now
-  double moved = 0.0;  ///< bound on the displacement of any point since the last build [m]
-};
+namespace engine {
+struct World;
+}
 
 class Simulation {
  public:
   explicit Simulation(SimulationSettings settings);
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
 
-  ParticleSystem& particles() { return particles_; }
-  const ParticleSystem& particles() const { return particles_; }
+  /// The particles. Bodies added here (ParticleSystem::add, add_type) are taken in at the
+  /// next step; remove them with remove_bodies.
+  ParticleSystem& particles();
+  const ParticleSystem& particles() const;
   /// Adds a geometry part; returns its index. Throws InputError (key "parts.<name>...") for
   /// a bad shape, material or motion, or a plane that is told to rotate.
   std::size_t add_part(Part part);
-  const Part& part(std::size_t i) const { return parts_[i]; }
-  std::size_t parts() const { return parts_.size(); }
+  const Part& part(std::size_t i) const;
+  std::size_t parts() const;
   /// Index of the part called `name`; throws InputError listing the names if there is none.
   std::size_t part_index(const std::string& name) const;
   /// Replaces a part's motion from now on (validated as in add_part).
@@ -106,105 +101,37 @@ class Simulation {
   /// Advances `n` steps.
   void step(std::uint64_t n = 1);
 
-  double time() const { return time_; }  ///< [s]
-  std::uint64_t steps() const { return steps_; }
-  const SimulationSettings& settings() const { return settings_; }
+  double time() const;  ///< [s]
+  std::uint64_t steps() const;
+  const SimulationSettings& settings() const;
   /// Sets the time step from the next step on [s]. Nothing else depends on it: the
   /// integrators take it per step, and the tangential and rolling springs grow by the
   /// displacement of each step, so a stage may run with its own step (scenario stages).
   void set_time_step(double dt);
   /// Largest overlap over the radius of the smaller sphere in the last step [-].
-  double max_overlap_ratio() const { return max_overlap_ratio_; }
+  double max_overlap_ratio() const;
   /// Largest max_overlap_ratio() of any step since the last reset [-]: a diagnostic, not part
   /// of the saved state.
-  double peak_overlap_ratio() const { return peak_overlap_ratio_; }
-  void reset_peak_overlap_ratio() { peak_overlap_ratio_ = 0.0; }
+  double peak_overlap_ratio() const;
+  void reset_peak_overlap_ratio();
   /// The unbalanced force ratio of the last step [-]: the mean net force on a particle over
   /// the mean force of a contact (sphere-sphere, and sphere-part per sphere and part), as
   /// Yade defines it. It falls towards 0 as a packing comes to static equilibrium (about 1e-4
   /// is quasi-static, wheat.md); 1 when nothing touches while a force acts, 0 with no particles.
   double unbalanced_force_ratio() const;
   /// Number of sphere-sphere contacts (overlap > 0) in the last step.
-  std::size_t contacts() const { return contacts_; }
-  const NeighborList& neighbors() const { return neighbors_; }
+  std::size_t contacts() const;
+  const NeighborList& neighbors() const;
 
  private:
-  void prepare();
-  /// Builds the lists; `adapt_skin` when the build is due to motion (or to narrow the skin),
-  /// so that the adaptive skin may change first.
-  void rebuild(bool adapt_skin = false);
-  void find_part_candidates();
-  void move_parts(double t, double dt);
-  void update_servos();
-  void split_into_chunks();
-  void mark_direct_seconds(int team);
-  void spatial_sort();
-  template <class Rolling>
-  void compute_forces(const Rolling&);
+  /// Takes in what changed from outside since the last step: new particle types or parts
+  /// (the coefficient table, the neighbour list's configuration), new particles (the
+  /// per-element arrays; their displacements are measured afresh).
+  void absorb_changes();
+  /// Forces of the current state: stages 1 to 4.
   void compute_forces();
-  void sum_part_reactions();
-  void kick(double dt);
-  void drift(double dt);
-  /// Calls f on each member that save_state writes after the neighbour list, in file order.
-  template <class Self, class F>
-  static void each_saved_member(Self& self, F&& f);
 
-  SimulationSettings settings_;
-  RollingModel rolling_;
-  ParticleSystem particles_;
-  std::vector<Part> parts_;
-  std::vector<PartCache> part_cache_;
-  NeighborList neighbors_;
-  PairCoefficientTable coefficients_;
-  std::size_t prepared_types_ = 0, prepared_parts_ = 0;
-  bool forces_valid_ = false;
-  std::size_t forces_parts_ = 0;  // part count the last forces were computed with
-  int rebuild_due_ = -1;          // from the last drift: 1 yes, 0 no, -1 unknown (check every element)
-  bool neighbors_configured_ = false;
-  double skin_min_ = 0.0, skin_max_ = 0.0;  // the skin's range [m]: equal when it is fixed
-  std::uint64_t last_build_step_ = 0;       // steps_ at the last neighbour-list build
-
-  // per pair: the reaction on the second element from the last force computation, written
-  // only for touching pairs whose second element is not summed directly (second_direct_)
-  std::vector<Vec3> pair_force_;           // force on the first element (the second gets minus this) [N]
-  std::vector<Vec3> pair_torque_j_;        // torque on the second element's body [N m]
-  std::vector<double> pair_cdt_j_;         // CDT magnitude on the second element's body [N m]
-  std::vector<std::uint8_t> pair_active_;  // 1 while the pair touches (or may: fresh list)
-  std::size_t active_build_ = 0;           // neighbour-list build the flags belong to
-  // per element: its own sums over its pairs (as first element) and its parts
-  std::vector<Vec3> element_force_, element_torque_;
-  std::vector<double> element_cdt_;
-  // per element: the sum of its shares as second element, in pair order, kept by the contact
-  // loop where one thread computes all of them (second_direct_), else summed from the pair
-  // slots by the gather; zero between steps
-  std::vector<Vec3> second_force_, second_torque_;
-  std::vector<double> second_cdt_;
-  std::vector<std::uint8_t> second_direct_;
-  std::size_t direct_build_ = 0;  // neighbour-list build and team size second_direct_ is for
-  int direct_team_ = 0;
-  std::vector<std::uint32_t> chunk_start_;  // elements split into runs of about one batch of contacts
-  // sphere-part candidates (spheres within the skin of a part's faces at the last build),
-  // grouped by sphere (CSR), each with its nearby faces and max_part_touches history slots
-  // of [normal (3), contact-law history] keyed by the contact's normal
-  std::vector<std::uint32_t> part_start_, part_of_candidate_, sphere_of_candidate_, candidate_sphere_id_;
-  std::vector<std::uint32_t> candidate_face_start_, candidate_faces_;
-  std::vector<double> candidate_face_distance_;  // centre to face at the build [m]
-  std::vector<double> element_moved2_;           // squared displacement of each element since the build [m2]
-  std::vector<double> part_history_;
-  std::vector<Vec3> part_reaction_;              // [2 c]: force on the part, its torque about the part origin
-  std::vector<std::uint8_t> candidate_touches_;  // [c]: contacts in the last step
-  std::vector<Vec3> part_partial_;               // per-chunk sums of part_reaction_
-  bool parts_changed_ = true;                    // the candidates must be found again
-
-  double time_ = 0.0;
-  std::uint64_t steps_ = 0;
-  double max_overlap_ratio_ = 0.0;
-  double peak_overlap_ratio_ = 0.0;
-  std::vector<double> chunk_force_sum_;  // per chunk of elements: its pairs' force magnitudes [N]
-  double pair_force_sum_ = 0.0;          // force magnitudes of the sphere-sphere contacts [N]
-  double part_force_sum_ = 0.0;          // force magnitudes of the sphere-part contacts [N]
-  std::size_t part_contacts_ = 0;        // spheres touching a part, per part
-  std::size_t contacts_ = 0;
+  std::unique_ptr<engine::World> w_;
 };
 
 }  // namespace bushel

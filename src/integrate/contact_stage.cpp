@@ -1,0 +1,609 @@
+// The contact stage: every sphere-sphere and sphere-part contact of a step, in parallel over
+// fixed chunks of elements (each about 256 pairs and part candidates). Every element sums its
+// own pairs (as first element) and its nearby parts (part_contact.hpp: one contact per touch
+// of a part's surface); the share of each pair's second element goes to the pair's slot, or
+// straight to the element where one thread has all of its pairs as second. The contact law
+// runs over batches of contacts at once (contact_batch.hpp); the rolling model is a template
+// parameter, so the loop is compiled once per model.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <span>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "bushel/contact/contact_batch.hpp"
+#include "bushel/core/parallel.hpp"
+#include "bushel/geometry/part_contact.hpp"
+#include "stages.hpp"
+
+#ifdef BUSHEL_HAVE_OPENMP
+#include <omp.h>
+#endif
+
+namespace bushel::engine {
+namespace {
+
+Vec3 load3(const double* h) { return {h[0], h[1], h[2]}; }
+void store3(double* h, const Vec3& v) { h[0] = v.x, h[1] = v.y, h[2] = v.z; }
+double min_moment(const Vec3& i) { return std::min({i.x, i.y, i.z}); }
+double max_component(const Vec3& i) { return std::max({i.x, i.y, i.z}); }
+
+// Sphere-part contacts on their way through the contact law: the law's inputs in SoA form,
+// and per contact what the rolling model, the torques and the result slots need.
+struct LaneExtra {
+  std::uint32_t element;  // the sphere (side i), whose own sums take the force
+  std::uint32_t item;     // the part candidate, whose reaction takes the rest
+  double* history;        // tangential displacement, then the rolling model's values
+  Vec3 arm_i, arm_j;      // contact point minus the body's centre of mass, and minus the part origin [m]
+  Vec3 omega_i, omega_j;  // [rad/s], set only for rolling models that use them
+  double arm_i_len, inertia_r, mu_r;
+};
+
+// Lane k's coefficients, in a pair batch or a contact batch.
+template <class Batch>
+void store_coefficients(Batch& b, int k, const PairCoefficients& c) {
+  b.youngs_modulus[k] = c.youngs_modulus;
+  b.stiffness_ratio[k] = c.stiffness_ratio;
+  b.root_stiffness_ratio[k] = c.root_stiffness_ratio;
+  b.damping[k] = c.damping;
+  b.static_friction[k] = c.static_friction;
+}
+
+struct PartLanes {
+  ContactBatch batch;
+  std::array<LaneExtra, ContactBatch::capacity> extra;
+
+  // The next contact's extra fields, filled in place (copying a whole LaneExtra stalls).
+  LaneExtra& next() { return extra[static_cast<std::size_t>(batch.size)]; }
+  // Adds the next contact; its extra fields must be filled already. The tangential
+  // displacement is read from its history.
+  void push(const Vec3& n, double overlap, const Vec3& v_rel, double r_star, double m_star, double compliance,
+            const PairCoefficients& c) {
+    ContactBatch& b = batch;
+    const int k = b.size++;
+    b.nx[k] = n.x, b.ny[k] = n.y, b.nz[k] = n.z;
+    b.overlap[k] = overlap;
+    b.vx[k] = v_rel.x, b.vy[k] = v_rel.y, b.vz[k] = v_rel.z;
+    b.r_star[k] = r_star;
+    b.m_star[k] = m_star;
+    b.compliance[k] = compliance;
+    store_coefficients(b, k, c);
+    const double* history = extra[static_cast<std::size_t>(k)].history;
+    b.xi_x[k] = history[0], b.xi_y[k] = history[1], b.xi_z[k] = history[2];
+  }
+};
+
+// Sphere-sphere contacts: the batch (which does their kinematics too), the pair and element
+// of each, and the touching pairs of the chunk at hand.
+struct PairLanes {
+  PairBatch batch;
+  std::array<std::uint32_t, PairBatch::capacity> element, pair;
+  std::array<std::uint32_t, PairBatch::capacity> coefficient;  // index of the pair's coefficients
+  std::vector<std::uint32_t> touching, ended;
+};
+// The rare cases of a batch, kept out of the loop that fills it (a call there would make the
+// compiler keep that loop's pointers in memory): lanes whose coefficients differ from lane
+// 0's, and elements that are not at their bodies' centres of mass (their offsets, and their
+// bodies' largest inverse moments for the damping bound).
+[[gnu::noinline, gnu::cold]] void set_coefficients(PairLanes& pl, const PairCoefficients* coefficients) {
+  PairBatch& b = pl.batch;
+  for (int k = 1; k < b.size; ++k) {  // (lane 0's are set already)
+    store_coefficients(b, k, coefficients[pl.coefficient[static_cast<std::size_t>(k)]]);
+  }
+}
+[[gnu::noinline, gnu::cold]] void set_offsets(PairLanes& pl, std::span<const Vec3> x_el, std::span<const Vec3> x_b,
+                                              std::span<const Vec3> inverse_inertia,
+                                              std::span<const std::uint32_t> owner,
+                                              std::span<const std::uint32_t> sphere_count,
+                                              std::span<const std::uint32_t> second) {
+  PairBatch& b = pl.batch;
+  for (int k = 0; k < b.size; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const std::uint32_t i = pl.element[kk], j = second[pl.pair[kk]], bi = owner[i], bj = owner[j];
+    // (a lone sphere's centre is its centre of mass: its body position is not read)
+    const Vec3 oi = sphere_count[bi] == 1 ? Vec3{} : x_el[i] - x_b[bi];
+    const Vec3 oj = sphere_count[bj] == 1 ? Vec3{} : x_el[j] - x_b[bj];
+    b.oix[k] = oi.x, b.oiy[k] = oi.y, b.oiz[k] = oi.z;
+    b.ojx[k] = oj.x, b.ojy[k] = oj.y, b.ojz[k] = oj.z;
+    b.ji[k] = max_component(inverse_inertia[bi]), b.jj[k] = max_component(inverse_inertia[bj]);
+  }
+}
+
+struct Workspace {
+  PairLanes pairs;
+  PartLanes parts;
+};
+
+// Everything the contact stage reads and writes, as plain views. Each chunk works on its own
+// copy: a byte store (pair_active) may alias any vector's internals or any shared variable,
+// so through the vectors, or through variables shared by an OpenMP region, the compiler would
+// reload every data pointer after it; from a private copy it keeps them in registers.
+struct ContactViews {
+  // bodies [b]
+  std::span<const Vec3> x_b, v_b, w_b, inertia, inverse_inertia;
+  std::span<const double> mass;
+  std::span<const std::uint32_t> sphere_count;
+  // sphere elements [s]
+  std::span<const Vec3> x_el;
+  std::span<const double> radius, element_moved2;
+  std::span<const std::uint32_t> owner, species;
+  // pairs [p] of the neighbour list, with their contact-law history and result slots
+  std::span<const std::uint32_t> first, second;
+  double* history;
+  std::span<std::uint8_t> active;
+  std::span<Vec3> pair_force, pair_torque_j;
+  std::span<double> pair_cdt_j;
+  // per element sums (ContactSums)
+  std::span<Vec3> element_force, element_torque;
+  std::span<double> element_cdt;
+  std::span<const std::uint8_t> second_direct;
+  std::span<Vec3> second_force, second_torque;
+  std::span<double> second_cdt;
+  // sphere-part candidates [c] (PartCandidates) and the parts [w]
+  std::span<const std::uint32_t> part_start, sphere_of_candidate, part_of_candidate, candidate_face_start,
+      candidate_faces;
+  std::span<const double> candidate_face_distance;
+  double* part_history;
+  std::span<std::uint8_t> candidate_touches;
+  std::span<Vec3> part_reaction;
+  std::span<const Part> parts;
+  std::span<const PartGeometry> geometry;
+  // the law
+  const PairCoefficients* coefficients;  // [species i * n_species + species j]
+  std::size_t n_species, n_types;
+  int h;                // history values per pair
+  double dt;            // [s]
+  double damping_rate;  // largest tangential damping over the contact's sliding mass [1/s] (contact_batch.hpp)
+};
+
+struct ChunkResult {
+  double max_ratio = 0.0;    // largest overlap over the smaller radius
+  std::size_t touching = 0;  // sphere-sphere contacts
+  double force_sum = 0.0;    // their force magnitudes, summed in pair order [N]
+};
+
+// The deepest sphere-sphere overlap of a chunk, as overlap and the smaller radius [m], compared
+// by cross-multiplying.
+struct Deepest {
+  double overlap = 0.0, radius = 1.0;
+};
+
+// Which of pairs [p0, p1) touch, into pl.touching (returns their count), without a branch on
+// it: about a third of the pairs in the list do not, in no predictable order. A contact that
+// ended has its history zeroed (after the loop, which stays free of calls).
+[[gnu::always_inline]] inline std::size_t find_touching(const ContactViews& v, std::size_t p0, std::size_t p1,
+                                                        PairLanes& pl) {
+  pl.touching.resize(p1 - p0);
+  pl.ended.resize(p1 - p0);
+  std::size_t n_touching = 0, n_ended = 0;
+  // Plain local pointers: the byte store to `active` may alias anything whose address
+  // escaped (the views, the workspace's vectors), so through those the compiler reloaded
+  // nine pointers from memory on every pair.
+  const std::uint32_t *const first_of = v.first.data(), *const second_of = v.second.data();
+  const double* const radius_of = v.radius.data();
+  const std::uint32_t* const owner_of = v.owner.data();
+  const Vec3* const x_of = v.x_el.data();
+  std::uint32_t *const touching = pl.touching.data(), *const ended = pl.ended.data();
+  std::uint8_t* const active_of = v.active.data();
+  const double* const history_of = v.history;
+  const auto stride = static_cast<std::size_t>(v.h);
+  for (std::size_t p = p0; p < p1; ++p) {
+    const std::uint32_t i = first_of[p], j = second_of[p];
+    const double reach = radius_of[i] + radius_of[j];
+    const std::uint8_t touch = norm2(x_of[j] - x_of[i]) < reach * reach ? 1 : 0;
+    touching[n_touching] = static_cast<std::uint32_t>(p);
+    n_touching += touch;
+    ended[n_ended] = static_cast<std::uint32_t>(p);
+    n_ended += active_of[p] > touch ? 1 : 0;
+    active_of[p] = touch;
+    // The chunk's histories (a few kB, in pair order) are read by the batch fill below and
+    // missed the cache there; fetched while this loop runs, they are in by then.
+    __builtin_prefetch(history_of + p * stride, 1);
+    // The second element of a pair a little ahead: its position and radius are this
+    // loop's only scattered reads, its owner the batch fill's first (bench/README.md).
+    if (constexpr std::size_t ahead_by = 16; p + ahead_by < p1) {
+      const std::uint32_t ahead = second_of[p + ahead_by];
+      __builtin_prefetch(x_of + ahead);
+      __builtin_prefetch(radius_of + ahead);
+      __builtin_prefetch(owner_of + ahead);
+    }
+  }
+  for (std::size_t e = 0; e < n_ended; ++e) std::fill_n(v.history + std::size_t{pl.ended[e]} * stride, v.h, 0.0);
+  return n_touching;
+}
+
+// Touching pairs [t0, t0 + n) of pl.touching into the batch, side i = the pair's first
+// element. The coefficients are stored once while every pair of the batch has the same (one
+// material, the usual case), the offsets not at all while every element is a lone sphere.
+[[gnu::always_inline]] inline void fill_pair_batch(const ContactViews& v, std::size_t t0, int n, PairLanes& pl) {
+  PairBatch& pb = pl.batch;
+  const auto ns = static_cast<std::uint32_t>(v.n_species);  // (a handful: the species table is square)
+  const std::uint32_t co0 = v.species[v.first[pl.touching[t0]]] * ns + v.species[v.second[pl.touching[t0]]];
+  bool lone = true, uniform = true;
+  for (int k = 0; k < n; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const std::uint32_t p = pl.touching[t0 + kk];
+    const std::uint32_t i = v.first[p], j = v.second[p], bi = v.owner[i], bj = v.owner[j];
+    // (read in place: copies of the Vec3s went through the stack)
+    const Vec3 &xi = v.x_el[i], &xj = v.x_el[j], &vi = v.v_b[bi], &vj = v.v_b[bj], &wi = v.w_b[bi], &wj = v.w_b[bj];
+    pb.dx[k] = xj.x - xi.x, pb.dy[k] = xj.y - xi.y, pb.dz[k] = xj.z - xi.z;
+    pb.ri[k] = v.radius[i], pb.rj[k] = v.radius[j];
+    pb.vix[k] = vi.x, pb.viy[k] = vi.y, pb.viz[k] = vi.z;
+    pb.vjx[k] = vj.x, pb.vjy[k] = vj.y, pb.vjz[k] = vj.z;
+    pb.wix[k] = wi.x, pb.wiy[k] = wi.y, pb.wiz[k] = wi.z;
+    pb.wjx[k] = wj.x, pb.wjy[k] = wj.y, pb.wjz[k] = wj.z;
+    pb.mi[k] = v.mass[bi], pb.mj[k] = v.mass[bj];
+    const double* hist = v.history + std::size_t{p} * static_cast<std::size_t>(v.h);
+    pb.xi_x[k] = hist[0], pb.xi_y[k] = hist[1], pb.xi_z[k] = hist[2];
+    // j's sums, which finish_pairs adds to after the batch is solved, miss the cache otherwise.
+    __builtin_prefetch(&v.second_force[j], 1);
+    __builtin_prefetch(&v.second_torque[j], 1);
+    __builtin_prefetch(&v.second_cdt[j], 1);
+    // And j's body position and inverse moments, which set_offsets reads for clumps.
+    __builtin_prefetch(&v.x_b[bj]);
+    __builtin_prefetch(&v.inverse_inertia[bj]);
+    const std::uint32_t co = v.species[i] * ns + v.species[j];
+    pl.coefficient[kk] = co;
+    uniform &= co == co0;
+    lone &= (v.sphere_count[bi] == 1) & (v.sphere_count[bj] == 1);
+    pl.element[kk] = i;
+    pl.pair[kk] = p;
+  }
+  pb.size = n;
+  pb.centred = lone;
+  pb.uniform = uniform;
+  store_coefficients(pb, 0, v.coefficients[co0]);
+  if (!uniform) set_coefficients(pl, v.coefficients);
+  if (!lone) set_offsets(pl, v.x_el, v.x_b, v.inverse_inertia, v.owner, v.sphere_count, v.second);
+}
+
+// Solves the batch of pairs, updates their histories, applies rolling model R; side i adds to
+// its element's own sums (in pair order), side j's share to j's sum as second element (or,
+// where other threads have some of j's pairs, to the pair's slot).
+template <class Rolling>
+[[gnu::always_inline]] inline void finish_pairs(const ContactViews& v, PairLanes& pl, ChunkResult& r,
+                                                Deepest& deepest) {
+  PairBatch& pb = pl.batch;
+  solve(pb, v.dt, v.damping_rate);
+  for (int k = 0; k < pb.size; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const std::uint32_t i = pl.element[kk], p = pl.pair[kk], j = v.second[p];
+    double* hist = v.history + std::size_t{p} * static_cast<std::size_t>(v.h);
+    hist[0] = pb.xi_x[k], hist[1] = pb.xi_y[k], hist[2] = pb.xi_z[k];
+    Vec3 spring = Rolling::history_size ? load3(hist + 3) : Vec3{};
+    double inertia_r = 0.0;
+    if constexpr (Rolling::uses_inertia) {
+      const std::uint32_t bi = v.owner[i], bj = v.owner[j];
+      const double ii = min_moment(v.inertia[bi]) + v.mass[bi] * pb.arm_i[k] * pb.arm_i[k];
+      const double ij = min_moment(v.inertia[bj]) + v.mass[bj] * pb.arm_j[k] * pb.arm_j[k];
+      inertia_r = ii * ij / (ii + ij);
+    }
+    const RollingOutput roll = Rolling::torque({{pb.nx[k], pb.ny[k], pb.nz[k]},
+                                                {pb.wix[k], pb.wiy[k], pb.wiz[k]},
+                                                {pb.wjx[k], pb.wjy[k], pb.wjz[k]},
+                                                pb.arm_i[k],
+                                                pb.arm_j[k],
+                                                pb.r_star[k],
+                                                pb.normal_force[k],
+                                                pb.normal_stiffness[k],
+                                                v.coefficients[pl.coefficient[kk]].rolling_friction,
+                                                inertia_r,
+                                                v.dt},
+                                               spring);
+    if constexpr (Rolling::history_size > 0) store3(hist + 3, spring);
+    const Vec3 f{pb.fx[k], pb.fy[k], pb.fz[k]};
+    Vec3 t_i{pb.tix[k], pb.tiy[k], pb.tiz[k]}, t_j{pb.tjx[k], pb.tjy[k], pb.tjz[k]};
+    if constexpr (Rolling::has_torque) t_i += roll.torque_i, t_j += roll.torque_j;
+    v.element_force[i] += f;
+    r.force_sum += norm(f);
+    v.element_torque[i] += t_i;
+    v.element_cdt[i] += roll.cdt_i;
+    if (v.second_direct[j]) {  // this thread has all of j's pairs as second: sum in pair order
+      v.second_force[j] -= f;
+      v.second_torque[j] += t_j;
+      v.second_cdt[j] += roll.cdt_j;
+    } else {  // the gather sums the slots in the same order
+      v.pair_force[p] = f;
+      v.pair_torque_j[p] = t_j;
+      v.pair_cdt_j[p] = roll.cdt_j;
+    }
+    const double smaller = std::min(pb.ri[k], pb.rj[k]);
+    if (pb.overlap[k] * deepest.radius > deepest.overlap * smaller) deepest = {pb.overlap[k], smaller};
+  }
+  r.touching += static_cast<std::size_t>(pb.size);
+}
+
+// The sphere-sphere contacts of pairs [p0, p1) (whose first elements are the chunk's).
+template <class Rolling>
+[[gnu::always_inline]] inline void pair_contacts(const ContactViews& v, std::size_t p0, std::size_t p1, PairLanes& pl,
+                                                 ChunkResult& r) {
+  Deepest deepest;
+  const std::size_t n_touching = find_touching(v, p0, p1, pl);
+  for (std::size_t t0 = 0; t0 < n_touching; t0 += PairBatch::capacity) {
+    const int n = static_cast<int>(std::min<std::size_t>(PairBatch::capacity, n_touching - t0));
+    fill_pair_batch(v, t0, n, pl);
+    finish_pairs<Rolling>(v, pl, r, deepest);
+  }
+  r.max_ratio = deepest.overlap / deepest.radius;
+}
+
+// The slot of max_part_touches history slots (each [normal (3), law history]) that a contact
+// with this normal takes: the closest stored normal within 60 degrees, else a free one, else
+// any unused (cleared). Keyed by the normal, a contact sliding across the triangles of one
+// part keeps its history.
+int history_slot(double* slots, std::size_t slot_size, const Vec3& normal,
+                 const std::array<bool, max_part_touches>& used) {
+  int slot = -1;
+  double best = 0.5;
+  for (int j = 0; j < max_part_touches; ++j) {
+    const double c = dot(load3(slots + j * slot_size), normal);
+    if (!used[static_cast<std::size_t>(j)] && c > best) best = c, slot = j;
+  }
+  for (int j = 0; j < max_part_touches && slot < 0; ++j) {
+    if (!used[static_cast<std::size_t>(j)] && norm2(load3(slots + j * slot_size)) == 0.0) slot = j;
+  }
+  for (int j = 0; j < max_part_touches && slot < 0; ++j) {
+    if (!used[static_cast<std::size_t>(j)]) slot = j, std::fill_n(slots + j * slot_size, slot_size, 0.0);
+  }
+  return slot;
+}
+
+// A part candidate's contacts (up to max_part_touches) into the batch with side i = the
+// sphere. Returns the largest overlap ratio, or -1 if nothing touches.
+template <class Rolling>
+double visit_part(const ContactViews& v, std::size_t cw, PartLanes& lanes) {
+  const std::uint32_t s = v.sphere_of_candidate[cw], w = v.part_of_candidate[cw];
+  const std::uint32_t b = v.owner[s];
+  const PartGeometry& pg = v.geometry[w];
+  const Part& part = v.parts[w];
+  const Vec3 origin = part.pose.position;
+  std::array<PartTouch, max_part_touches> touches;
+  const std::size_t f0 = v.candidate_face_start[cw], nf = v.candidate_face_start[cw + 1] - f0;
+  // Faces further than the sphere and the part have moved since the build are skipped.
+  const int n = part_touches(
+      pg.faces, v.candidate_faces.subspan(f0, nf), transpose_times(pg.rotation, v.x_el[s] - origin), v.radius[s],
+      touches, v.candidate_face_distance.subspan(f0, nf), nf > 1 ? std::sqrt(v.element_moved2[s]) + pg.moved : 0.0);
+  const std::size_t slot_size = 3 + static_cast<std::size_t>(v.h);
+  double* slots = v.part_history + cw * max_part_touches * slot_size;
+  v.part_reaction[2 * cw] = v.part_reaction[2 * cw + 1] = Vec3{};
+  v.candidate_touches[cw] = static_cast<std::uint8_t>(n);
+  std::array<bool, max_part_touches> used{};
+  double max_ratio = -1.0;
+  for (int k = 0; k < n; ++k) {
+    const PartTouch& t = touches[static_cast<std::size_t>(k)];
+    const Vec3 normal = pg.rotation * t.normal, point = origin + pg.rotation * t.point;
+    const int slot = history_slot(slots, slot_size, normal, used);
+    used[static_cast<std::size_t>(slot)] = true;
+    double* hist = slots + static_cast<std::size_t>(slot) * slot_size;
+    store3(hist, normal);
+    const Vec3 arm = point - v.x_b[b];
+    const Vec3 v_part = part.twist.velocity + cross(part.twist.angular_velocity, point - origin);
+    const Vec3 v_rel = v.v_b[b] + cross(v.w_b[b], arm) - v_part;
+    const double arm_len = norm(arm);
+    const PairCoefficients& co = v.coefficients[v.species[s] * v.n_species + v.n_types + w];
+    LaneExtra& e = lanes.next();
+    e.element = s;
+    e.item = static_cast<std::uint32_t>(cw);
+    e.history = hist + 3;
+    e.arm_i = arm;
+    e.arm_j = point - origin;  // for the reaction's torque about the part origin
+    if constexpr (Rolling::uses_spin) {
+      e.omega_i = v.w_b[b];
+      e.omega_j = part.twist.angular_velocity;
+    }
+    e.arm_i_len = arm_len;
+    e.inertia_r = min_moment(v.inertia[b]) + v.mass[b] * arm_len * arm_len;
+    e.mu_r = co.rolling_friction;
+    lanes.push(normal, t.overlap, v_rel, v.radius[s], v.mass[b],
+               1.0 / v.mass[b] + arm_len * arm_len * max_component(v.inverse_inertia[b]), co);
+    max_ratio = std::max(max_ratio, t.overlap / v.radius[s]);
+  }
+  for (int j = 0; j < max_part_touches; ++j) {  // contacts that ended start afresh
+    double* slot = slots + j * slot_size;       // (a slot in use has a non-zero normal)
+    if (!used[static_cast<std::size_t>(j)] && norm2(load3(slot)) != 0.0) std::fill_n(slot, slot_size, 0.0);
+  }
+  return max_ratio;
+}
+
+// Solves the batch, updates the histories, applies rolling model R; the sphere adds to its
+// element's own sums (after its pairs), the part candidate's reaction takes the rest (a
+// candidate may have several contacts).
+template <class Rolling>
+void finish_parts(const ContactViews& v, PartLanes& lanes) {
+  ContactBatch& b = lanes.batch;
+  solve(b, v.dt, v.damping_rate);
+  for (int k = 0; k < b.size; ++k) {
+    const LaneExtra& e = lanes.extra[static_cast<std::size_t>(k)];
+    e.history[0] = b.xi_x[k], e.history[1] = b.xi_y[k], e.history[2] = b.xi_z[k];
+    Vec3 spring = Rolling::history_size ? load3(e.history + 3) : Vec3{};
+    const RollingOutput roll = Rolling::torque({{b.nx[k], b.ny[k], b.nz[k]},
+                                                e.omega_i,
+                                                e.omega_j,
+                                                e.arm_i_len,
+                                                0.0,
+                                                b.r_star[k],
+                                                b.normal_force[k],
+                                                b.normal_stiffness[k],
+                                                e.mu_r,
+                                                e.inertia_r,
+                                                v.dt},
+                                               spring);
+    if constexpr (Rolling::history_size > 0) store3(e.history + 3, spring);
+    const Vec3 f{b.fx[k], b.fy[k], b.fz[k]};
+    v.element_force[e.element] += f;
+    v.element_torque[e.element] += cross(e.arm_i, f) + roll.torque_i;
+    v.element_cdt[e.element] += roll.cdt_i;
+    v.part_reaction[2 * std::size_t{e.item}] -= f;
+    v.part_reaction[2 * std::size_t{e.item} + 1] += cross(e.arm_j, -f) - roll.torque_i;
+  }
+  b.size = 0;
+}
+
+// The contacts of elements [e0, e1): their pairs [p0, p1) as first element, then their part
+// candidates; each element's own sums are zeroed and rebuilt here.
+template <class Rolling>
+ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint32_t e1, std::size_t p0, std::size_t p1,
+                          Workspace& work) {
+  const ContactViews v = views;
+  ChunkResult r;
+  std::fill(v.element_force.begin() + e0, v.element_force.begin() + e1, Vec3{});
+  std::fill(v.element_torque.begin() + e0, v.element_torque.begin() + e1, Vec3{});
+  std::fill(v.element_cdt.begin() + e0, v.element_cdt.begin() + e1, 0.0);
+  pair_contacts<Rolling>(v, p0, p1, work.pairs, r);
+  PartLanes& lanes = work.parts;
+  for (std::size_t cw = v.part_start[e0]; cw < v.part_start[e1]; ++cw) {
+    if (lanes.batch.size + max_part_touches > ContactBatch::capacity) finish_parts<Rolling>(v, lanes);
+    r.max_ratio = std::max(r.max_ratio, visit_part<Rolling>(v, cw, lanes));
+  }
+  finish_parts<Rolling>(v, lanes);
+  return r;
+}
+
+// The chunks [first, last) that thread `me` of a team of `team` handles: contiguous blocks
+// of nearly equal size, in order.
+std::pair<std::size_t, std::size_t> chunks_of(std::size_t n_chunks, int team, int me) {
+  const auto t = static_cast<std::size_t>(team), m = static_cast<std::size_t>(me);
+  return {n_chunks * m / t, n_chunks * (m + 1) / t};
+}
+
+// An element's shares as second element may be summed by the contact stage itself when one
+// thread computes all its pairs as second: that thread meets them in pair order.
+void mark_direct_seconds(ContactSums& sums, const NeighborList& neighbors, std::size_t n_s, int team) {
+  const std::size_t n_chunks = sums.chunk_start.size() - 1;
+  std::vector<int> thread_of(n_s, 0);
+  for (int t = 0; t < team; ++t) {
+    const auto [c0, c1] = chunks_of(n_chunks, team, t);
+    std::fill(thread_of.begin() + sums.chunk_start[c0], thread_of.begin() + sums.chunk_start[c1], t);
+  }
+  const auto first = neighbors.firsts();
+  std::fill(sums.second_direct.begin(), sums.second_direct.end(), 1);  // (sized before: views hold it)
+  for (std::size_t s = 0; s < n_s; ++s) {
+    const auto pairs = neighbors.pairs_as_second(s);
+    for (const std::uint32_t p : pairs) {
+      if (thread_of[first[p]] != thread_of[first[pairs.front()]]) sums.second_direct[s] = 0;
+    }
+  }
+  sums.direct_build = neighbors.builds();
+  sums.direct_team = team;
+}
+
+// The per-pair result slots sized for the list; on a new list every pair counts as touching
+// once, so that where it does not, its history is zeroed; from then on only pairs whose
+// contact ends write zeros.
+void size_pair_slots(ContactSums& sums, const NeighborList& neighbors) {
+  const std::size_t n_pairs = neighbors.pairs();
+  sums.pair_force.resize(n_pairs);
+  sums.pair_torque_j.resize(n_pairs);
+  sums.pair_cdt_j.resize(n_pairs);
+  if (neighbors.builds() != sums.active_build) {
+    sums.pair_active.assign(n_pairs, 1);
+    sums.active_build = neighbors.builds();
+  }
+}
+
+ContactViews views_of(World& w) {
+  auto& ps = w.particles;
+  auto& s = w.sums;
+  auto& c = w.candidates;
+  const double dt = w.settings.dt;
+  return {.x_b = ps.position,
+          .v_b = ps.velocity,
+          .w_b = ps.angular_velocity,
+          .inertia = ps.inertia,
+          .inverse_inertia = ps.inverse_inertia,
+          .mass = ps.mass,
+          .sphere_count = ps.sphere_count,
+          .x_el = ps.sphere_position,
+          .radius = ps.radius,
+          .element_moved2 = w.element_moved2,
+          .owner = ps.owner,
+          .species = ps.species,
+          .first = w.neighbors.firsts(),
+          .second = w.neighbors.seconds(),
+          .history = w.neighbors.all_history().data(),
+          .active = s.pair_active,
+          .pair_force = s.pair_force,
+          .pair_torque_j = s.pair_torque_j,
+          .pair_cdt_j = s.pair_cdt_j,
+          .element_force = s.element_force,
+          .element_torque = s.element_torque,
+          .element_cdt = s.element_cdt,
+          .second_direct = s.second_direct,
+          .second_force = s.second_force,
+          .second_torque = s.second_torque,
+          .second_cdt = s.second_cdt,
+          .part_start = c.start,
+          .sphere_of_candidate = c.sphere,
+          .part_of_candidate = c.part,
+          .candidate_face_start = c.face_start,
+          .candidate_faces = c.faces,
+          .candidate_face_distance = c.face_distance,
+          .part_history = c.history.data(),
+          .candidate_touches = c.touches,
+          .part_reaction = c.reaction,
+          .parts = w.parts,
+          .geometry = w.geometry,
+          .coefficients = w.coefficients.size() > 0 ? &w.coefficients(0, 0) : nullptr,
+          .n_species = w.coefficients.size(),
+          .n_types = ps.types().size(),
+          .h = w.neighbors.history_size(),
+          .dt = dt,
+          .damping_rate = w.settings.tangential_damping_limit / dt};
+}
+
+template <class Rolling>
+void contacts(World& w) {
+  size_pair_slots(w.sums, w.neighbors);
+  const ContactViews views = views_of(w);
+  double max_ratio = 0.0;
+  std::size_t touching = 0;
+  ContactSums& sums = w.sums;
+  const std::size_t n_chunks = sums.chunk_start.size() - 1;
+  std::vector<double>& force_sum = w.diagnostics.chunk_force_sum;
+  force_sum.resize(n_chunks);
+#pragma omp parallel reduction(max : max_ratio) reduction(+ : touching) if (static_cast <std::ptrdiff_t>( \
+                                                                                w.particles.spheres()) > \
+                                                                                parallel_threshold)
+  {
+    int team = 1, me = 0;
+#ifdef BUSHEL_HAVE_OPENMP
+    team = omp_get_num_threads(), me = omp_get_thread_num();
+#endif
+    // Each thread takes a fixed block of chunks (chunks_of), which mark_direct_seconds knows.
+#pragma omp single
+    if (sums.direct_build != w.neighbors.builds() || sums.direct_team != team) {
+      mark_direct_seconds(sums, w.neighbors, w.particles.spheres(), team);
+    }
+    // Each thread's scratch, kept between steps: allocating and zeroing it every step cost
+    // more than the L1 cache holds.
+    thread_local std::unique_ptr<Workspace> work;
+    if (!work) work = std::make_unique<Workspace>();
+    const auto [c0, c1] = chunks_of(n_chunks, team, me);
+    for (std::size_t c = c0; c < c1; ++c) {
+      const std::uint32_t e0 = sums.chunk_start[c], e1 = sums.chunk_start[c + 1];
+      const ChunkResult r =
+          contact_chunk<Rolling>(views, e0, e1, w.neighbors.begin_of(e0), w.neighbors.begin_of(e1), *work);
+      max_ratio = std::max(max_ratio, r.max_ratio);
+      touching += r.touching;
+      force_sum[c] = r.force_sum;
+    }
+  }
+  StepDiagnostics& d = w.diagnostics;
+  d.pair_force_sum = 0.0;  // (summed in chunk order: the same sum for any thread count)
+  for (std::size_t c = 0; c < n_chunks; ++c) d.pair_force_sum += force_sum[c];
+  d.max_overlap_ratio = max_ratio;
+  d.peak_overlap_ratio = std::max(d.peak_overlap_ratio, max_ratio);
+  d.contacts = touching;
+}
+
+}  // namespace
+
+void compute_contacts(World& w) {
+  std::visit([&w](const auto& model) { contacts<std::decay_t<decltype(model)>>(w); }, w.rolling);
+}
+
+}  // namespace bushel::engine

@@ -1,0 +1,102 @@
+// The gather stage: the contact stage's sums onto bodies and parts, in a fixed order (the same
+// bits for any thread count).
+
+#include <algorithm>
+
+#include "bushel/core/parallel.hpp"
+#include "stages.hpp"
+
+namespace bushel::engine {
+
+void sum_part_reactions(PartCandidates& pc, std::span<Part> parts, StepDiagnostics& d) {
+  // Fixed blocks of candidates, summed in order: the same sums for any thread count, without
+  // a serial pass over every candidate.
+  const std::size_t n_w = parts.size(), n_c = pc.part.size();
+  d.part_force_sum = 0.0;
+  d.part_contacts = 0;
+  if (n_w == 0) return;
+  constexpr std::size_t blocks = 64;
+  const std::size_t per_block = (n_c + blocks - 1) / blocks;
+  pc.partial.assign(3 * blocks * n_w, Vec3{});  // force, torque, (touches, sum of |force|, touching)
+  const auto nk = static_cast<std::ptrdiff_t>(blocks);
+#pragma omp parallel for schedule(static) if (static_cast <std::ptrdiff_t>(n_c) > parallel_threshold)
+  for (std::ptrdiff_t sk = 0; sk < nk; ++sk) {
+    const auto k = static_cast<std::size_t>(sk);
+    Vec3* out = pc.partial.data() + 3 * k * n_w;
+    for (std::size_t c = k * per_block; c < std::min(n_c, (k + 1) * per_block); ++c) {
+      const std::uint32_t w = pc.part[c];
+      out[3 * w] += pc.reaction[2 * c];
+      out[3 * w + 1] += pc.reaction[2 * c + 1];
+      out[3 * w + 2].x += pc.touches[c];
+      out[3 * w + 2].y += norm(pc.reaction[2 * c]);
+      out[3 * w + 2].z += pc.touches[c] > 0 ? 1.0 : 0.0;
+    }
+  }
+  for (std::size_t w = 0; w < n_w; ++w) {
+    Vec3 f, t;
+    double touches = 0.0;
+    for (std::size_t k = 0; k < blocks; ++k) {
+      const Vec3* block = pc.partial.data() + 3 * (k * n_w + w);
+      f += block[0];
+      t += block[1];
+      touches += block[2].x;
+      d.part_force_sum += block[2].y;
+      d.part_contacts += static_cast<std::size_t>(block[2].z);
+    }
+    parts[w].force = f;
+    parts[w].torque = t;
+    parts[w].touches = static_cast<std::size_t>(touches);
+  }
+}
+
+void gather(ParticleSystem& ps, ContactSums& sums, const NeighborList& neighbors, const Vec3& gravity) {
+  // Per element: its own sums, then the sum of its shares as second element in pair order,
+  // which the contact stage kept (direct) or which is summed here from the pair slots in the
+  // same order; the accumulators are zeroed for the next step.
+  const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
+#pragma omp parallel for schedule(static) if (nb > parallel_threshold)
+  for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
+    const auto b = static_cast<std::size_t>(sb);
+    Vec3 f = ps.mass[b] * gravity, t;
+    double cdt = 0.0;
+    for (std::uint32_t s = ps.first_sphere[b]; s < ps.first_sphere[b] + ps.sphere_count[b]; ++s) {
+      f += sums.element_force[s];
+      t += sums.element_torque[s];
+      cdt += sums.element_cdt[s];
+      if (sums.second_direct[s]) {
+        f += sums.second_force[s];
+        t += sums.second_torque[s];
+        cdt += sums.second_cdt[s];
+        sums.second_force[s] = sums.second_torque[s] = Vec3{};
+        sums.second_cdt[s] = 0.0;
+        continue;
+      }
+      Vec3 f_second, t_second;
+      double cdt_second = 0.0;
+      for (const std::uint32_t p : neighbors.pairs_as_second(s)) {
+        if (!sums.pair_active[p]) continue;  // (as the contact stage: only pairs that touch)
+        f_second -= sums.pair_force[p];
+        t_second += sums.pair_torque_j[p];
+        cdt_second += sums.pair_cdt_j[p];
+      }
+      f += f_second;
+      t += t_second;
+      cdt += cdt_second;
+    }
+    ps.force[b] = f;
+    ps.torque[b] = t;
+    ps.rolling_resistance[b] = cdt;
+  }
+}
+
+double unbalanced_force_ratio(const ParticleSystem& ps, const StepDiagnostics& d) {
+  const std::size_t n = ps.bodies(), touching = d.contacts + d.part_contacts;
+  if (n == 0) return 0.0;
+  double net = 0.0;  // (in body order: the same sum for any thread count)
+  for (std::size_t b = 0; b < n; ++b) net += norm(ps.force[b]);
+  const double contact = d.pair_force_sum + d.part_force_sum;
+  if (touching == 0 || !(contact > 0.0)) return net > 0.0 ? 1.0 : 0.0;
+  return (net / static_cast<double>(n)) / (contact / static_cast<double>(touching));
+}
+
+}  // namespace bushel::engine

@@ -1,0 +1,150 @@
+// Simulation::save_state and load_state: the whole dynamic state, for a checkpoint. The
+// layout is the engine section of checkpoint format 3 (scenario_run.cpp); a change to it is a
+// new format.
+
+#include <type_traits>
+
+#include "bushel/core/input_error.hpp"
+#include "bushel/integrate/simulation.hpp"
+#include "bushel/io/binary_archive.hpp"
+#include "stages.hpp"
+
+namespace bushel {
+namespace {
+
+// Calls f on each member that save_state writes after the neighbour list, in file order: one
+// list for writing and reading (W is World or const World).
+template <class W, class F>
+void each_saved_member(W& w, F&& f) {
+  static_assert(std::is_same_v<std::size_t, std::uint64_t>, "counts are stored as 64-bit");
+  auto& s = w.sums;
+  auto& c = w.candidates;
+  f(s.pair_force);
+  f(s.pair_torque_j);
+  f(s.pair_cdt_j);
+  f(s.pair_active);
+  f(s.element_force);
+  f(s.element_torque);
+  f(s.element_cdt);
+  f(s.second_force);
+  f(s.second_torque);
+  f(s.second_cdt);
+  f(s.second_direct);
+  f(s.chunk_start);
+  f(c.start);
+  f(c.part);
+  f(c.sphere);
+  f(c.sphere_id);
+  f(c.face_start);
+  f(c.faces);
+  f(c.face_distance);
+  f(w.element_moved2);
+  f(c.history);
+  f(c.reaction);
+  f(c.touches);
+  f(c.partial);
+  f(w.forces_valid);
+  f(w.displacements);
+  f(c.stale);
+  f(s.direct_team);
+  f(w.time);
+  f(w.steps);
+  f(w.diagnostics.max_overlap_ratio);
+  f(w.forces_parts);
+  f(s.active_build);
+  f(s.direct_build);
+  f(w.diagnostics.contacts);
+}
+
+// The parts' poses, motions, servos and last forces.
+void save_parts(io::BinaryWriter& out, const engine::World& w) {
+  out.put(static_cast<std::uint64_t>(w.parts.size()));
+  for (std::size_t i = 0; i < w.parts.size(); ++i) {
+    const Part& p = w.parts[i];
+    out.put(p.pose);
+    out.put(p.enabled);
+    out.put(p.motion.segments);
+    out.put(p.motion.has_servo);
+    out.put(p.motion.servo);
+    out.put(p.force);
+    out.put(p.torque);
+    out.put(p.twist);
+    out.put(p.servo);
+    out.put(static_cast<std::uint64_t>(p.touches));
+    out.put(w.geometry[i].moved);
+  }
+}
+
+void load_parts(io::BinaryReader& in, engine::World& w) {
+  if (in.get<std::uint64_t>() != w.parts.size()) {
+    throw InputError("the checkpoint has another number of geometry parts than the scenario");
+  }
+  for (std::size_t i = 0; i < w.parts.size(); ++i) {
+    Part& p = w.parts[i];
+    in.get(p.pose);
+    in.get(p.enabled);
+    in.get(p.motion.segments);
+    in.get(p.motion.has_servo);
+    in.get(p.motion.servo);
+    in.get(p.force);
+    in.get(p.torque);
+    in.get(p.twist);
+    in.get(p.servo);
+    p.touches = static_cast<std::size_t>(in.get<std::uint64_t>());
+    in.get(w.geometry[i].moved);
+    w.geometry[i].rotation = to_matrix(p.pose.orientation);
+  }
+}
+
+// Reads a saved member; the displacement state is an int that must be one of its values.
+template <class T>
+void get_member(io::BinaryReader& in, T& m) {
+  if constexpr (std::is_same_v<T, engine::Displacements>) {
+    const int v = in.get<int>();
+    if (v < -1 || v > 1) in.damaged("a displacement state that is neither -1, 0 nor 1");
+    m = static_cast<engine::Displacements>(v);
+  } else {
+    in.get(m);
+  }
+}
+
+}  // namespace
+
+void Simulation::save_state(io::BinaryWriter& out) const {
+  save_parts(out, *w_);
+  w_->particles.save(out);
+  w_->neighbors.save(out);
+  each_saved_member(*w_, [&](const auto& m) { out.put(m); });
+}
+
+void Simulation::load_state(io::BinaryReader& in) {
+  engine::World& w = *w_;
+  load_parts(in, w);
+  w.particles.load(in);
+  // The derived tables (pair coefficients) and the neighbour list's configuration, then the
+  // saved list and every per-pair and per-element array over them.
+  const std::vector<Vec3> placed = w.particles.sphere_position;
+  absorb_changes();
+  w.particles.sphere_position = placed;
+  w.neighbors.load(in);
+  each_saved_member(w, [&](auto& m) { get_member(in, m); });
+  w.skin.last_build_step = w.steps;  // (load_skin_clock reads the saved one, where there is one)
+}
+
+void Simulation::save_force_sums(io::BinaryWriter& out) const {
+  out.put(w_->diagnostics.pair_force_sum);
+  out.put(w_->diagnostics.part_force_sum);
+  out.put(static_cast<std::uint64_t>(w_->diagnostics.part_contacts));
+}
+
+void Simulation::load_force_sums(io::BinaryReader& in) {
+  in.get(w_->diagnostics.pair_force_sum);
+  in.get(w_->diagnostics.part_force_sum);
+  w_->diagnostics.part_contacts = static_cast<std::size_t>(in.get<std::uint64_t>());
+}
+
+void Simulation::save_skin_clock(io::BinaryWriter& out) const { out.put(w_->skin.last_build_step); }
+
+void Simulation::load_skin_clock(io::BinaryReader& in) { in.get(w_->skin.last_build_step); }
+
+}  // namespace bushel

@@ -1,0 +1,67 @@
+#pragma once
+// The stages of a time step (internal to src/integrate), in the order Simulation::step runs
+// them (ARCHITECTURE.md, "The time step"):
+//
+//   neighbours      update_neighbors     (neighbor_stage.cpp)
+//   contacts        compute_contacts     (contact_stage.cpp: sphere-sphere, then sphere-part per chunk)
+//   gather          sum_part_reactions, gather (gather_stage.cpp)
+//   servos          update_servos        (part_stage.cpp)
+//   integrate       kick, drift          (integrate_stage.cpp)
+//   move parts      move_parts           (part_stage.cpp)
+//
+// Each stage takes the few structs of the World it reads and writes. Every sum whose order
+// could depend on the thread count is taken in a fixed order (per chunk, per block, per body),
+// so the results are the same bits for any thread count. Another backend (GPU, MPI domains)
+// would implement the same stages over the same arrays.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "world.hpp"
+
+namespace bushel::engine {
+
+// --- neighbours (neighbor_stage.cpp) -------------------------------------------------------
+/// Rebuilds the neighbour list and the part candidates when an element or a part may have
+/// moved half the skin since the last build, when the candidates are stale, or when a skin
+/// wider than the least has gone 160 steps without a build.
+void update_neighbors(World& w);
+/// Rebuilds them now; `adapt_skin` when the build is due to motion (or to narrow the skin),
+/// so that the adaptive skin may change first.
+void rebuild_neighbors(World& w, bool adapt_skin);
+
+// --- contacts (contact_stage.cpp) ----------------------------------------------------------
+/// Every contact's force and torque into ContactSums and PartCandidates::reaction, with the
+/// largest overlap and the force sums into StepDiagnostics.
+void compute_contacts(World& w);
+
+// --- gather (gather_stage.cpp) --------------------------------------------------------------
+/// Each part's force, torque and touches from its candidates' reactions, summed in fixed
+/// blocks; the sphere-part force sums into `d`.
+void sum_part_reactions(PartCandidates& candidates, std::span<Part> parts, StepDiagnostics& d);
+/// Each body's force (gravity included), torque and rolling resistance from its elements'
+/// sums, in a fixed order; the second-element sums are zeroed for the next step.
+void gather(ParticleSystem& ps, ContactSums& sums, const NeighborList& neighbors, const Vec3& gravity);
+/// The unbalanced force ratio of the last step [-] (Simulation::unbalanced_force_ratio).
+double unbalanced_force_ratio(const ParticleSystem& ps, const StepDiagnostics& d);
+
+// --- integrate (integrate_stage.cpp) --------------------------------------------------------
+/// Velocities and angular momenta over dt [s] from the forces and torques; the constant
+/// directional rolling torque is capped so that it can stop a spin but never reverse it.
+void kick(ParticleSystem& ps, double dt);
+/// Positions and orientations over dt [s], the elements placed and their displacement since
+/// the last build measured (into moved2 [m2]); returns whether a build is due.
+Displacements drift(ParticleSystem& ps, const NeighborList& neighbors, std::vector<double>& moved2, double dt);
+
+// --- parts (part_stage.cpp) -----------------------------------------------------------------
+/// A part's faces, bounds and broad phase; throws InputError for a bad shape.
+PartGeometry make_part_geometry(const Part& part);
+/// Each moving part's pose and twist over [t, t + dt]; marks the candidates stale once a part
+/// has moved half the skin since the last build.
+void move_parts(std::span<Part> parts, std::span<PartGeometry> geometry, double skin, double t, double dt,
+                PartCandidates& candidates);
+/// Each servo's action from the force the particles put on its part in the last contacts.
+void update_servos(std::span<Part> parts, double time);
+
+}  // namespace bushel::engine

@@ -1,0 +1,126 @@
+#pragma once
+// The simulation's data, internal to src/integrate: plain structs that the stages of a step
+// (stages.hpp) read and write. Simulation (simulation.hpp) owns one World and runs the stages
+// over it in a fixed order; nothing here is visible to the rest of the program.
+//
+// Index spaces: b a body, s a sphere element, p a pair of the neighbour list, c a part
+// candidate (a sphere near a part), w a part, k a chunk (a run of whole elements, about 256
+// pairs and candidates, the unit of work of the contact stage).
+
+#include <cstdint>
+#include <vector>
+
+#include "bushel/contact/contact_model.hpp"
+#include "bushel/contact/neighbor_list.hpp"
+#include "bushel/contact/pair_coefficients.hpp"
+#include "bushel/core/mat3.hpp"
+#include "bushel/geometry/face_grid.hpp"
+#include "bushel/geometry/part.hpp"
+#include "bushel/integrate/simulation.hpp"
+#include "bushel/particles/particle_system.hpp"
+
+namespace bushel::engine {
+
+/// A part's faces and broad phase in its own frame, and where the frame is now.
+struct PartGeometry {
+  std::vector<Face> faces;
+  FaceGrid grid;  ///< used when the part has many faces (a mesh)
+  bool use_grid = false;
+  Vec3 lo, hi;         ///< bounds of the faces in the part frame [m]
+  double reach = 0.0;  ///< largest distance of a face point from the part origin [m] (inf: a plane)
+  Mat3 rotation;       ///< part frame -> world, now
+  double moved = 0.0;  ///< bound on the displacement of any point since the last build [m]
+};
+
+/// Where the contact stage leaves its forces for the gather: per element its own sums (over
+/// its pairs as first element and its parts), per pair the share of the second element, or,
+/// where one thread computes all of an element's pairs as second, that element's sum of them.
+struct ContactSums {
+  // per pair: the reaction on the second element, written only for touching pairs whose
+  // second element is not summed directly
+  std::vector<Vec3> pair_force;           ///< force on the first element (the second gets minus this) [N]
+  std::vector<Vec3> pair_torque_j;        ///< torque on the second element's body [N m]
+  std::vector<double> pair_cdt_j;         ///< CDT magnitude on the second element's body [N m]
+  std::vector<std::uint8_t> pair_active;  ///< 1 while the pair touches (or may: a fresh list)
+  std::size_t active_build = 0;           ///< neighbour-list build the flags belong to
+  // per element: its own sums
+  std::vector<Vec3> element_force, element_torque;  ///< [N], [N m]
+  std::vector<double> element_cdt;                  ///< [N m]
+  // per element: the sum of its shares as second element, in pair order, kept by the contact
+  // stage where second_direct (else summed from the pair slots by the gather); zero between steps
+  std::vector<Vec3> second_force, second_torque;
+  std::vector<double> second_cdt;
+  std::vector<std::uint8_t> second_direct;
+  std::size_t direct_build = 0;            ///< neighbour-list build that second_direct is for
+  int direct_team = 0;                     ///< and the team size
+  std::vector<std::uint32_t> chunk_start;  ///< elements split into chunks: [chunk_start[k], chunk_start[k + 1])
+};
+
+/// Sphere-part candidates: the spheres within the skin of a part's faces at the last build,
+/// grouped by sphere (CSR), each with its nearby faces and max_part_touches history slots of
+/// [normal (3), contact-law history] keyed by the contact's normal.
+struct PartCandidates {
+  std::vector<std::uint32_t> start;              ///< [s]: the sphere's candidates are [start[s], start[s + 1])
+  std::vector<std::uint32_t> part;               ///< [c]: the part
+  std::vector<std::uint32_t> sphere;             ///< [c]: the sphere element
+  std::vector<std::uint32_t> sphere_id;          ///< [c]: its stable id (histories follow it across builds)
+  std::vector<std::uint32_t> face_start, faces;  ///< [c]: its faces within the skin (CSR)
+  std::vector<double> face_distance;             ///< centre to face at the build [m]
+  std::vector<double> history;                   ///< [c][slot][3 + history size]
+  std::vector<Vec3> reaction;         ///< [2 c]: force on the part [N], its torque about the part origin [N m]
+  std::vector<std::uint8_t> touches;  ///< [c]: contacts in the last step
+  std::vector<Vec3> partial;          ///< per-block sums of reaction (sum_part_reactions)
+  bool stale = true;                  ///< parts changed or moved half the skin: find them again
+};
+
+/// The adaptive skin's range and clock (neighbor_stage.cpp).
+struct SkinControl {
+  double least = 0.0, most = 0.0;     ///< the skin's range [m]: equal when it is fixed
+  std::uint64_t last_build_step = 0;  ///< steps at the last neighbour-list build
+};
+
+/// What a step measured, for the run's checks and the unbalanced force ratio.
+struct StepDiagnostics {
+  double max_overlap_ratio = 0.0;       ///< largest overlap over the smaller radius, last step [-]
+  double peak_overlap_ratio = 0.0;      ///< largest of those since the last reset [-]
+  std::vector<double> chunk_force_sum;  ///< per chunk: its pairs' force magnitudes [N]
+  double pair_force_sum = 0.0;          ///< force magnitudes of the sphere-sphere contacts [N]
+  double part_force_sum = 0.0;          ///< force magnitudes of the sphere-part contacts [N]
+  std::size_t part_contacts = 0;        ///< spheres touching a part, per part
+  std::size_t contacts = 0;             ///< sphere-sphere contacts
+};
+
+/// Whether the elements' displacements since the last build are known to be within half the
+/// skin: the drift measures them; anything done from outside (insertion, a restart) makes
+/// them unknown, and the neighbour stage measures them itself. Stored as an int (-1, 0, 1).
+enum class Displacements : int { unknown = -1, within_skin = 0, past_skin = 1 };
+
+/// The coefficients and the neighbour list's configuration follow the particle types and
+/// parts that exist: these record what they were made for (Simulation::absorb_changes).
+struct Configuration {
+  std::size_t types = 0, parts = 0;  ///< counts the coefficient table was made for
+  bool neighbors = false;            ///< the neighbour list has its skin and history size
+};
+
+struct World {
+  SimulationSettings settings;
+  RollingModel rolling;
+  ParticleSystem particles;
+  std::vector<Part> parts;
+  std::vector<PartGeometry> geometry;  ///< [w]
+  NeighborList neighbors{1.0, 3};
+  PairCoefficientTable coefficients;  ///< over species: particle types, then parts
+  ContactSums sums;
+  PartCandidates candidates;
+  std::vector<double> element_moved2;  ///< squared displacement of each element since the build [m2]
+  SkinControl skin;
+  StepDiagnostics diagnostics;
+  Configuration configured;
+  Displacements displacements = Displacements::unknown;
+  bool forces_valid = false;     ///< the bodies' forces belong to the current state (velocity Verlet)
+  std::size_t forces_parts = 0;  ///< part count the last forces were computed with
+  double time = 0.0;             ///< [s]
+  std::uint64_t steps = 0;
+};
+
+}  // namespace bushel::engine
