@@ -15,81 +15,90 @@ std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
   return a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
 }
 
-}  // namespace
+// A uniform grid of cells of side 2 r_max + skin over the elements' bounding box, with the
+// elements of each cell listed in increasing index (CSR), and those elements in cell order as
+// plain arrays, so that the scan reads each cell's run contiguously instead of gathering
+// positions, radii and owners element by element.
+struct CellGrid {
+  Vec3 lo{INFINITY, INFINITY, INFINITY};
+  double cell = 0.0;
+  std::int64_t nx = 1, ny = 1, nz = 1;
+  std::vector<std::uint32_t> start, items;  // cell c holds items[start[c], start[c + 1])
+  std::vector<double> run_x, run_y, run_z, run_r;
+  std::vector<std::uint32_t> run_owner;
 
-NeighborList::NeighborList(double skin, int history_size) : skin_(skin), history_size_(history_size) {
-  if (!(skin > 0.0)) throw std::invalid_argument("NeighborList: skin must be positive");
-  if (history_size < 0) throw std::invalid_argument("NeighborList: negative history size");
-}
-
-void NeighborList::set_skin(double skin) {
-  if (!(skin > 0.0)) throw std::invalid_argument("NeighborList: skin must be positive");
-  skin_ = skin;
-}
-
-void NeighborList::build(std::span<const Vec3> position, std::span<const double> radius,
-                         std::span<const std::uint32_t> owner, std::span<const std::uint32_t> stable_id) {
-  const std::size_t n = position.size();
-  // --- cell grid over the elements' bounding box ----------------------------------------
-  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  double r_max = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    lo = min(lo, position[i]);
-    hi = max(hi, position[i]);
-    r_max = std::max(r_max, radius[i]);
-  }
-  double cell = 2.0 * r_max + skin_;
-  auto cells_along = [&](double extent) {
-    return std::max<std::int64_t>(1, static_cast<std::int64_t>(extent / cell) + 1);
-  };
-  // A stray element far away must not blow up the grid: coarsen until it fits in 2^24 cells.
-  while (n > 0 && cells_along(hi.x - lo.x) * cells_along(hi.y - lo.y) * cells_along(hi.z - lo.z) > (1 << 24)) {
-    cell *= 2.0;
-  }
-  const std::int64_t nx = n ? cells_along(hi.x - lo.x) : 1, ny = n ? cells_along(hi.y - lo.y) : 1,
-                     nz = n ? cells_along(hi.z - lo.z) : 1;
-  auto cell_of = [&](const Vec3& p, std::int64_t& cx, std::int64_t& cy, std::int64_t& cz) {
+  void cell_of(const Vec3& p, std::int64_t& cx, std::int64_t& cy, std::int64_t& cz) const {
     cx = std::min(nx - 1, static_cast<std::int64_t>((p.x - lo.x) / cell));
     cy = std::min(ny - 1, static_cast<std::int64_t>((p.y - lo.y) / cell));
     cz = std::min(nz - 1, static_cast<std::int64_t>((p.z - lo.z) / cell));
+  }
+};
+
+void size_grid(CellGrid& g, std::span<const Vec3> position, std::span<const double> radius, double skin) {
+  const std::size_t n = position.size();
+  Vec3 hi{-INFINITY, -INFINITY, -INFINITY};
+  double r_max = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    g.lo = min(g.lo, position[i]);
+    hi = max(hi, position[i]);
+    r_max = std::max(r_max, radius[i]);
+  }
+  g.cell = 2.0 * r_max + skin;
+  auto cells_along = [&](double extent) {
+    return std::max<std::int64_t>(1, static_cast<std::int64_t>(extent / g.cell) + 1);
   };
-  const auto n_cells = static_cast<std::size_t>(nx * ny * nz);
-  std::vector<std::uint32_t> cell_start(n_cells + 1, 0), cell_items(n);
+  // A stray element far away must not blow up the grid: coarsen until it fits in 2^24 cells.
+  while (n > 0 && cells_along(hi.x - g.lo.x) * cells_along(hi.y - g.lo.y) * cells_along(hi.z - g.lo.z) > (1 << 24)) {
+    g.cell *= 2.0;
+  }
+  if (n > 0) g.nx = cells_along(hi.x - g.lo.x), g.ny = cells_along(hi.y - g.lo.y), g.nz = cells_along(hi.z - g.lo.z);
+}
+
+CellGrid make_grid(std::span<const Vec3> position, std::span<const double> radius, std::span<const std::uint32_t> owner,
+                   double skin) {
+  const std::size_t n = position.size();
+  CellGrid g;
+  size_grid(g, position, radius, skin);
+  const auto n_cells = static_cast<std::size_t>(g.nx * g.ny * g.nz);
+  g.start.assign(n_cells + 1, 0);
+  g.items.resize(n);
   std::vector<std::uint32_t> cell_index(n);
   for (std::size_t i = 0; i < n; ++i) {
     std::int64_t cx, cy, cz;
-    cell_of(position[i], cx, cy, cz);
-    cell_index[i] = static_cast<std::uint32_t>((cz * ny + cy) * nx + cx);
-    ++cell_start[cell_index[i] + 1];
+    g.cell_of(position[i], cx, cy, cz);
+    cell_index[i] = static_cast<std::uint32_t>((cz * g.ny + cy) * g.nx + cx);
+    ++g.start[cell_index[i] + 1];
   }
-  std::partial_sum(cell_start.begin(), cell_start.end(), cell_start.begin());
+  std::partial_sum(g.start.begin(), g.start.end(), g.start.begin());
   {
-    std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) cell_items[fill[cell_index[i]]++] = static_cast<std::uint32_t>(i);
+    std::vector<std::uint32_t> fill(g.start.begin(), g.start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) g.items[fill[cell_index[i]]++] = static_cast<std::uint32_t>(i);
   }
-
-  // The elements in cell order as plain arrays, so that the scan reads each cell's run
-  // contiguously instead of gathering positions, radii and owners element by element.
-  std::vector<double> run_x(n), run_y(n), run_z(n), run_r(n);
-  std::vector<std::uint32_t> run_owner(n);
+  g.run_x.resize(n), g.run_y.resize(n), g.run_z.resize(n), g.run_r.resize(n), g.run_owner.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
-    const std::uint32_t j = cell_items[k];
-    run_x[k] = position[j].x, run_y[k] = position[j].y, run_z[k] = position[j].z;
-    run_r[k] = radius[j];
-    run_owner[k] = owner[j];
+    const std::uint32_t j = g.items[k];
+    g.run_x[k] = position[j].x, g.run_y[k] = position[j].y, g.run_z[k] = position[j].z;
+    g.run_r[k] = radius[j];
+    g.run_owner[k] = owner[j];
   }
+  return g;
+}
 
-  // --- candidate pairs, per element i (j > i), in two passes so threads never share -------
-  // Per-element partner buffers live in the list so rebuilds reuse their capacity.
-  auto& partners = partners_;
+// Per element i, its partners j > i within r_i + r_j + skin (not of its own body), sorted;
+// each element's list is written by one thread only.
+void find_partners(const CellGrid& g, std::span<const Vec3> position, std::span<const double> radius,
+                   std::span<const std::uint32_t> owner, double skin,
+                   std::vector<std::vector<std::uint32_t>>& partners) {
+  const std::size_t n = position.size();
   partners.resize(n);
   const auto sn = static_cast<std::ptrdiff_t>(n);
   // (plain local pointers: the partner lists' stores may alias anything whose address
   // escaped, so through the vectors every pointer was reloaded on every candidate)
-  const std::uint32_t *const cell_begin = cell_start.data(), *const item = cell_items.data();
-  const std::uint32_t* const run_owner_of = run_owner.data();
-  const double *const xs = run_x.data(), *const ys = run_y.data(), *const zs = run_z.data(), *const rs = run_r.data();
-  const double skin = skin_;
+  const std::uint32_t *const cell_begin = g.start.data(), *const item = g.items.data();
+  const std::uint32_t* const run_owner_of = g.run_owner.data();
+  const double *const xs = g.run_x.data(), *const ys = g.run_y.data(), *const zs = g.run_z.data(),
+                      *const rs = g.run_r.data();
+  const std::int64_t nx = g.nx, ny = g.ny, nz = g.nz;
 #pragma omp parallel if (sn > parallel_threshold)
   {
     std::vector<std::uint32_t> buffer;  // this thread's candidates of one element
@@ -98,7 +107,7 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
       const auto i = static_cast<std::size_t>(si);
       std::int64_t cx, cy, cz;
       const Vec3 p = position[i];
-      cell_of(p, cx, cy, cz);
+      g.cell_of(p, cx, cy, cz);
       const double r = radius[i];
       const std::uint32_t own = owner[i];
       std::size_t m = 0;
@@ -135,80 +144,104 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
       partners[i].assign(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(m));
     }
   }
+}
 
-  // --- flatten in element order, carry history over by stable pair identity --------------
+}  // namespace
+
+NeighborList::NeighborList(double skin, int history_size) : skin_(skin), history_size_(history_size) {
+  if (!(skin > 0.0)) throw std::invalid_argument("NeighborList: skin must be positive");
+  if (history_size < 0) throw std::invalid_argument("NeighborList: negative history size");
+}
+
+void NeighborList::set_skin(double skin) {
+  if (!(skin > 0.0)) throw std::invalid_argument("NeighborList: skin must be positive");
+  skin_ = skin;
+}
+
+void NeighborList::build(std::span<const Vec3> position, std::span<const double> radius,
+                         std::span<const std::uint32_t> owner, std::span<const std::uint32_t> stable_id) {
+  const std::size_t n = position.size();
+  find_partners(make_grid(position, radius, owner, skin_), position, radius, owner, skin_, partners_);
+  // Flattened in element order, with each pair's stable identity.
   std::vector<std::uint32_t> start(n + 1, 0);  // the new list's pairs of element i: [start[i], start[i + 1])
-  for (std::size_t i = 0; i < n; ++i) start[i + 1] = start[i] + static_cast<std::uint32_t>(partners[i].size());
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] = start[i] + static_cast<std::uint32_t>(partners_[i].size());
   const std::size_t n_pairs = start[n];
   std::vector<std::uint32_t> first(n_pairs), second(n_pairs);
   std::vector<std::uint64_t> key(n_pairs);
   for (std::size_t i = 0; i < n; ++i) {
     std::size_t p = start[i];
-    for (const std::uint32_t j : partners[i]) {
+    for (const std::uint32_t j : partners_[i]) {
       first[p] = static_cast<std::uint32_t>(i);
       second[p] = j;
       key[p++] = pair_key(stable_id[i], stable_id[j]);
     }
   }
-  const auto h = static_cast<std::size_t>(history_size_);
-  std::vector<double> history(n_pairs * h, 0.0);
-  // The elements keep their indices from build to build unless something renumbered them (a
-  // spatial sort, bodies added or removed), and both lists are sorted by (i, j): then each
-  // element's old and new partners are merged in one pass. Otherwise (and after a restart,
-  // which does not keep the ids) each pair is looked up by its stable identity. Both carry
-  // the same values over.
-  if (h > 0 && !key_.empty()) {
-    if (std::equal(stable_id.begin(), stable_id.end(), ids_at_build_.begin(), ids_at_build_.end())) {
-#pragma omp parallel for schedule(static) if (sn > parallel_threshold)
-      for (std::ptrdiff_t si = 0; si < sn; ++si) {
-        const auto i = static_cast<std::size_t>(si);
-        std::size_t o = first_start_[i];
-        const std::size_t o_end = first_start_[i + 1];
-        for (std::size_t p = start[i]; p < start[i + 1] && o < o_end; ++p) {
-          while (o < o_end && second_[o] < second[p]) ++o;
-          if (o < o_end && second_[o] == second[p]) std::copy_n(history_.data() + o * h, h, history.data() + p * h);
-        }
-      }
-    } else {
-      // Only the old pairs whose history is not zero need carrying over: those in contact
-      // (the others' was zeroed when their contact ended), about half the list in a packed
-      // bed and few in a flow. Their keys with their slots, sorted in one contiguous array,
-      // make each new pair's lookup a binary search in a compact array.
-      std::vector<std::pair<std::uint64_t, std::uint32_t>> carried;
-      for (std::size_t o = 0; o < key_.size(); ++o) {
-        const double* old = history_.data() + o * h;
-        if (std::any_of(old, old + h, [](double v) { return v != 0.0; }))
-          carried.emplace_back(key_[o], static_cast<std::uint32_t>(o));
-      }
-      std::sort(carried.begin(), carried.end());
-      const auto np = static_cast<std::ptrdiff_t>(carried.empty() ? 0 : n_pairs);
-#pragma omp parallel for schedule(static) if (np > parallel_threshold)
-      for (std::ptrdiff_t sp = 0; sp < np; ++sp) {
-        const auto p = static_cast<std::size_t>(sp);
-        const auto it = std::lower_bound(carried.begin(), carried.end(), std::pair{key[p], std::uint32_t{0}});
-        if (it != carried.end() && it->first == key[p]) {
-          std::copy_n(history_.data() + std::size_t{it->second} * h, h, history.data() + p * h);
-        }
-      }
-    }
-  }
+  std::vector<double> history(n_pairs * static_cast<std::size_t>(history_size_), 0.0);
+  if (history_size_ > 0 && !key_.empty()) carry_history(stable_id, start, second, key, history);
   ids_at_build_.assign(stable_id.begin(), stable_id.end());
   first_ = std::move(first);
   second_ = std::move(second);
   key_ = std::move(key);
   history_ = std::move(history);
-
-  // --- pairs by first element (contiguous) and by second element (CSR) ---------------------
   first_start_ = std::move(start);
+  index_by_second();
+  reference_.assign(position.begin(), position.end());
+  ++builds_;
+}
+
+void NeighborList::carry_history(std::span<const std::uint32_t> stable_id, std::span<const std::uint32_t> start,
+                                 std::span<const std::uint32_t> second, std::span<const std::uint64_t> key,
+                                 std::span<double> history) const {
+  // The elements keep their indices from build to build unless something renumbered them (a
+  // spatial sort, bodies added or removed), and both lists are sorted by (i, j): then each
+  // element's old and new partners are merged in one pass. Otherwise (and after a restart,
+  // which does not keep the ids) each pair is looked up by its stable identity. Both carry
+  // the same values over.
+  const auto h = static_cast<std::size_t>(history_size_);
+  const auto sn = static_cast<std::ptrdiff_t>(stable_id.size());
+  if (std::equal(stable_id.begin(), stable_id.end(), ids_at_build_.begin(), ids_at_build_.end())) {
+#pragma omp parallel for schedule(static) if (sn > parallel_threshold)
+    for (std::ptrdiff_t si = 0; si < sn; ++si) {
+      const auto i = static_cast<std::size_t>(si);
+      std::size_t o = first_start_[i];
+      const std::size_t o_end = first_start_[i + 1];
+      for (std::size_t p = start[i]; p < start[i + 1] && o < o_end; ++p) {
+        while (o < o_end && second_[o] < second[p]) ++o;
+        if (o < o_end && second_[o] == second[p]) std::copy_n(history_.data() + o * h, h, history.data() + p * h);
+      }
+    }
+    return;
+  }
+  // Only the old pairs whose history is not zero need carrying over: those in contact (the
+  // others' was zeroed when their contact ended), about half the list in a packed bed and few
+  // in a flow. Their keys with their slots, sorted in one contiguous array, make each new
+  // pair's lookup a binary search in a compact array.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> carried;
+  for (std::size_t o = 0; o < key_.size(); ++o) {
+    const double* old = history_.data() + o * h;
+    if (std::any_of(old, old + h, [](double v) { return v != 0.0; }))
+      carried.emplace_back(key_[o], static_cast<std::uint32_t>(o));
+  }
+  std::sort(carried.begin(), carried.end());
+  const auto np = static_cast<std::ptrdiff_t>(carried.empty() ? 0 : key.size());
+#pragma omp parallel for schedule(static) if (np > parallel_threshold)
+  for (std::ptrdiff_t sp = 0; sp < np; ++sp) {
+    const auto p = static_cast<std::size_t>(sp);
+    const auto it = std::lower_bound(carried.begin(), carried.end(), std::pair{key[p], std::uint32_t{0}});
+    if (it != carried.end() && it->first == key[p]) {
+      std::copy_n(history_.data() + std::size_t{it->second} * h, h, history.data() + p * h);
+    }
+  }
+}
+
+void NeighborList::index_by_second() {
+  const std::size_t n = first_start_.size() - 1;
   second_start_.assign(n + 1, 0);
   for (std::size_t p = 0; p < first_.size(); ++p) ++second_start_[second_[p] + 1];
   std::partial_sum(second_start_.begin(), second_start_.end(), second_start_.begin());
   as_second_.resize(first_.size());
   std::vector<std::uint32_t> fill(second_start_.begin(), second_start_.end() - 1);
   for (std::size_t p = 0; p < first_.size(); ++p) as_second_[fill[second_[p]]++] = static_cast<std::uint32_t>(p);
-
-  reference_.assign(position.begin(), position.end());
-  ++builds_;
 }
 
 void NeighborList::save(io::BinaryWriter& out) const {

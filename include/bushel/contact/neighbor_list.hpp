@@ -71,6 +71,14 @@ class NeighborList {
   void load(io::BinaryReader& in);
 
  private:
+  /// The old list's history of each new pair (given by its first elements' ranges `start`,
+  /// its second elements and stable identities) into `history`.
+  void carry_history(std::span<const std::uint32_t> stable_id, std::span<const std::uint32_t> start,
+                     std::span<const std::uint32_t> second, std::span<const std::uint64_t> key,
+                     std::span<double> history) const;
+  /// second_start_ and as_second_ from the pairs.
+  void index_by_second();
+
   double skin_;
   int history_size_;
   std::size_t builds_ = 0;
