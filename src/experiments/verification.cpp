@@ -209,10 +209,10 @@ std::vector<CheckResult> incline(const Options& o) {
 }
 
 std::vector<CheckResult> rolling_friction(const Options& o) {
-  // CDT, and EPSD once its spring is fully mobilised (the same torque mu_r R F_n against a
-  // plane, where R* = R), both decelerate a rolling sphere at 5/7 mu_r g.
+  // CDT, LIGGGHTS's CDT and EPSD once its spring is fully mobilised (the same torque
+  // mu_r R F_n against a plane, where R* = R), all decelerate a rolling sphere at 5/7 mu_r g.
   std::vector<CheckResult> out;
-  for (const char* model : {"cdt", "epsd"}) {
+  for (const char* model : {"cdt", "liggghts_cdt", "epsd"}) {
     const double g = 9.81, mu_r = 0.1, v0 = 0.3;
     const ParticleType type = sphere();
     const double dt = 0.2 * rayleigh(radius);

@@ -282,17 +282,18 @@ template <class Rolling>
       const double ij = min_moment(v.inertia[bj]) + v.mass[bj] * pb.arm_j[k] * pb.arm_j[k];
       inertia_r = ii * ij / (ii + ij);
     }
-    const RollingOutput roll = Rolling::torque({{pb.nx[k], pb.ny[k], pb.nz[k]},
-                                                {pb.wix[k], pb.wiy[k], pb.wiz[k]},
-                                                {pb.wjx[k], pb.wjy[k], pb.wjz[k]},
-                                                pb.arm_i[k],
-                                                pb.arm_j[k],
-                                                pb.r_star[k],
-                                                pb.normal_force[k],
-                                                pb.normal_stiffness[k],
-                                                v.coefficients[pl.coefficient[kk]].rolling_friction,
-                                                inertia_r,
-                                                v.dt},
+    const RollingOutput roll = Rolling::torque({.normal = {pb.nx[k], pb.ny[k], pb.nz[k]},
+                                                .omega_i = {pb.wix[k], pb.wiy[k], pb.wiz[k]},
+                                                .omega_j = {pb.wjx[k], pb.wjy[k], pb.wjz[k]},
+                                                .arm_i = pb.arm_i[k],
+                                                .arm_j = pb.arm_j[k],
+                                                .r_star = pb.r_star[k],
+                                                .normal_force = pb.normal_force[k],
+                                                .normal_stiffness = pb.normal_stiffness[k],
+                                                .overlap = pb.overlap[k],
+                                                .mu_r = v.coefficients[pl.coefficient[kk]].rolling_friction,
+                                                .inertia_r = inertia_r,
+                                                .dt = v.dt},
                                                spring);
     if constexpr (Rolling::history_size > 0) store3(hist + 3, spring);
     const Vec3 f{pb.fx[k], pb.fy[k], pb.fz[k]};
@@ -420,17 +421,18 @@ void finish_parts(const ContactViews& v, PartLanes& lanes) {
     const LaneExtra& e = lanes.extra[static_cast<std::size_t>(k)];
     e.history[0] = b.xi_x[k], e.history[1] = b.xi_y[k], e.history[2] = b.xi_z[k];
     Vec3 spring = Rolling::history_size ? load3(e.history + 3) : Vec3{};
-    const RollingOutput roll = Rolling::torque({{b.nx[k], b.ny[k], b.nz[k]},
-                                                e.omega_i,
-                                                e.omega_j,
-                                                e.arm_i_len,
-                                                0.0,
-                                                b.r_star[k],
-                                                b.normal_force[k],
-                                                b.normal_stiffness[k],
-                                                e.mu_r,
-                                                e.inertia_r,
-                                                v.dt},
+    const RollingOutput roll = Rolling::torque({.normal = {b.nx[k], b.ny[k], b.nz[k]},
+                                                .omega_i = e.omega_i,
+                                                .omega_j = e.omega_j,
+                                                .arm_i = e.arm_i_len,
+                                                .arm_j = 0.0,
+                                                .r_star = b.r_star[k],
+                                                .normal_force = b.normal_force[k],
+                                                .normal_stiffness = b.normal_stiffness[k],
+                                                .overlap = b.overlap[k],
+                                                .mu_r = e.mu_r,
+                                                .inertia_r = e.inertia_r,
+                                                .dt = v.dt},
                                                spring);
     if constexpr (Rolling::history_size > 0) store3(e.history + 3, spring);
     const Vec3 f{b.fx[k], b.fy[k], b.fz[k]};

@@ -74,7 +74,7 @@ TEST_P(MixedBed, KeepsMomentumAndAngularMomentum) {
   EXPECT_LT(norm(after.angular_momentum - before.angular_momentum), 1e-12 * before.angular_scale);
 }
 
-INSTANTIATE_TEST_SUITE_P(RollingModels, MixedBed, testing::Values("none", "epsd"));
+INSTANTIATE_TEST_SUITE_P(RollingModels, MixedBed, testing::Values("none", "epsd", "liggghts_cdt"));
 
 }  // namespace
 }  // namespace bushel

@@ -13,9 +13,10 @@
 
 namespace bushel {
 
-using RollingModel = std::variant<CdtRolling, EpsdRolling, NoRolling>;
+/// The rolling models, by name: adding one is its struct (rolling_models.hpp) and a line here.
+using RollingModel = std::variant<CdtRolling, EpsdRolling, LiggghtsCdtRolling, NoRolling>;
 
-/// The model registered under `name` ("cdt", "epsd", "none"); throws InputError with the
+/// The model registered under `name` ("cdt", "epsd", "liggghts_cdt", "none"); throws InputError with the
 /// known names and a did-you-mean.
 RollingModel rolling_model(std::string_view name);
 std::vector<std::string> rolling_model_names();

@@ -19,6 +19,7 @@ struct RollingInput {
   double r_star;            ///< effective radius R* [m]
   double normal_force;      ///< F_n >= 0 [N]
   double normal_stiffness;  ///< S_n [N/m]
+  double overlap;           ///< delta [m]
   double mu_r;              ///< rolling friction coefficient [-]
   double inertia_r;         ///< effective rolling inertia (EPSD damping) [kg m2]
   double dt;                ///< [s]
@@ -91,6 +92,30 @@ struct EpsdRolling {
       m -= 2.0 * damping_ratio * std::sqrt(in.inertia_r * k_r) * w;
     }
     return {m, -m, 0.0, 0.0};
+  }
+};
+
+/// LIGGGHTS's constant directional torque (`rolling_friction cdt`): a torque against the
+/// relative spin of the two bodies, tau_i = -tau_j = -mu_r F_e R* w_t / |w_t|, with
+/// w = omega_i - omega_j, w_t its part in the tangent plane (the torque's twisting part is
+/// removed), R* = r_i r_j / (r_i + r_j) (the sphere's radius against a part) and
+/// F_e = 2/3 S_n delta the elastic normal force (LIGGGHTS's k_n delta_n). Unlike `cdt`, the
+/// arm is R* rather than each body's own arm, it acts on the relative spin, and it is applied
+/// as a torque: nothing stops it from reversing a spin within a step.
+struct LiggghtsCdtRolling {
+  static constexpr const char* name = "liggghts_cdt";
+  static constexpr int history_size = 0;
+  static constexpr bool uses_spin = true;
+  static constexpr bool has_torque = true;
+  static constexpr bool uses_inertia = false;
+  static RollingOutput torque(const RollingInput& in, Vec3&) {
+    const Vec3 w = in.omega_i - in.omega_j;
+    const double spin = norm(w);
+    if (!(spin > 0.0)) return {};
+    const double elastic = 2.0 / 3.0 * in.normal_stiffness * in.overlap;
+    Vec3 t = (in.mu_r * elastic * in.r_star / spin) * w;
+    t -= dot(t, in.normal) * in.normal;
+    return {-1.0 * t, t, 0.0, 0.0};
   }
 };
 

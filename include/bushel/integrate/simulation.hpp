@@ -36,7 +36,7 @@ struct SimulationSettings {
   double dt = 0.0;                ///< time step [s]
   Vec3 gravity{0.0, 0.0, -9.81};  ///< [m/s2]
   Integrator integrator = Integrator::symplectic_euler;
-  std::string rolling = "cdt";  ///< rolling model: cdt, epsd, none
+  std::string rolling = "cdt";  ///< rolling model: cdt, epsd, liggghts_cdt, none (contact_model.hpp)
   /// Verlet skin [m]; 0 = adaptive, from 0.11 to 0.35 of the largest element diameter, as
   /// the particles' motion asks (Simulation::rebuild)
   double skin = 0.0;
