@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The study's calibration cup at full size (scenarios/calibration-cup.yaml, 325 g), for the
 # three size fractions with the calibrated 5-sphere model and with the single-sphere model and
-# its per-pair parameters, next to the study's measurements and EDEM results (wheat.md).
+# its per-pair parameters, next to the study's measurements and EDEM results (docs/wheat.md).
 #
 #   validation/run-cup.sh [CASE...]     # cases: large-5s medium-5s small-5s large-1s medium-1s small-1s
 #   validation/run-cup.sh --park        # keep the unfinished cases' checkpoints with the results
@@ -28,7 +28,7 @@ kept="$root/validation/results/cup-runs"
 mkdir -p "$runs" "$kept"
 source "$root/validation/resume.sh"
 
-# case -> overrides: parameters by name (wheat.md: single-sphere fr_ww / fs_ww / e_ww per
+# case -> overrides: parameters by name (docs/wheat.md: single-sphere fr_ww / fs_ww / e_ww per
 # pair), other keys by path (simulation.time_step=5%rayleigh, say).
 declare -A sets=(
   [large-5s]="fraction=large model=5s"
