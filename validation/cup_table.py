@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The table of the full-size calibration cup cases (validation/run-cup.sh writes it to
-validation/results/cup.md and into validation/README.md): each case's results beside the
+validation/results/cup.md; --readme puts it into a README as well): each case's results beside the
 study's lab value and EDEM result (data/reference_values.csv), how far an unfinished case has
 got, and per particle model whether the bulk density falls from large to medium to small
 kernels, as docs/wheat.md requires.

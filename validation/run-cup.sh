@@ -17,8 +17,8 @@
 # `--park` (while the cases run or after) copies each unfinished case's latest checkpoint and
 # time series there too, compressed, so that a case can span machines: on a checkout without
 # the run folder, the script continues from the parked checkpoint. The table of every case so
-# far is written to validation/results/cup.md and validation/README.md (and printed) after each
-# case and after --park, and at the end
+# far is written to validation/results/cup.md (and printed) after each case and after --park,
+# and at the end
 # `bushel report` draws the cases beside the measurements in validation/results/cup/.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -70,10 +70,9 @@ unpark() {
   echo "$c: continuing from the checkpoint parked in $kept/cup-$c" >&2
 }
 
-# the table of every case so far and whether large > medium > small holds (validation/cup_table.py),
-# also put into validation/README.md
+# the table of every case so far and whether large > medium > small holds (validation/cup_table.py)
 table() {
-  /usr/bin/python3 "$root/validation/cup_table.py" --readme "$root/validation/README.md" \
+  /usr/bin/python3 "$root/validation/cup_table.py" \
     "$runs" "$kept" "$root/data/reference_values.csv" "${all[@]}"
 }
 
