@@ -7,7 +7,7 @@
 #   validation/run-cup.sh --park        # keep the unfinished cases' checkpoints with the results
 #
 # Hours on 2 cores; on a machine used for other work too, two scripts with one thread each
-# (OMP_NUM_THREADS=1) go faster than one with two (validation/README.md). They may be given
+# (OMP_NUM_THREADS=1) go faster than one with two (bench/results/wait-policy.md). They may be given
 # the same cases: each leaves the case that the other is running to it and takes the next.
 # Each case runs in runs/validation/cup-CASE with a checkpoint every 5
 # minutes; run the script again after an interruption (Ctrl-C, a reboot) and it continues
