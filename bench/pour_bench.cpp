@@ -1,6 +1,6 @@
-// The pour benchmark (shared/reference/liggghts-pour): times the phases pour (from rest),
-// settle and dense (the settled bed) of the pour scene and prints particle-steps per second
-// per phase, one CSV line each:
+// The pour benchmark (the scene of LIGGGHTS's pour inputs, bench/liggghts/): times the phases
+// pour (from rest), settle and dense (the settled bed) of the pour scene and prints
+// particle-steps per second per phase, one CSV line each:
 //   bench_pour N PARTICLE THREADS NPOUR NSETTLE NDENSE [DATAFILE]
 // Each phase length is a step count or simulated seconds ("0.245s").
 // With DATAFILE, the initial state is also written for LIGGGHTS (same positions).

@@ -26,7 +26,7 @@ out="${1:-$root/runs/bin-example}"
 drop="${DROP:-163.2cm}"
 mkdir -p "$out"
 
-sphere=(model=1s fr_ww=0.05 fs_ww=0.172 e_ww=0.5)  # wheat.md: large-large, 1 sphere
+sphere=(model=1s fr_ww=0.05 fs_ww=0.172 e_ww=0.5)  # docs/wheat.md: large-large, 1 sphere
 if [ "${REDUCED:-1}" = 1 ]; then
   drop_sets=(mass=150g kettle_volume=60cm3 kettle_diameter=50mm hopper_top=100mm hopper_outlet=25mm
              striker_length=90mm frame_interval=1s "${sphere[@]}")

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The study's calibration loop (wheat.md, "Calibration by design of experiments") on a reduced
+# The study's calibration loop (docs/wheat.md, "Calibration by design of experiments") on a reduced
 # calibration cup, in one command: a Plackett-Burman screening of the six contact parameters,
 # a face-centred central composite design over the significant ones (the others at the centre
 # of their ranges), a quadratic fit, the settings that give the target bulk density, and
@@ -26,7 +26,7 @@ scenario="$root/scenarios/calibration-cup.yaml"
 # The reduced cup of validation/experiments-smoke.py (80 g into a 25 mm high cup, single spheres).
 read -r -a reduced <<< "${REDUCED:-parameters.mass=80g parameters.cup_height=25mm parameters.model=1s parameters.frame_interval=10s}"
 sets=(); for s in "${reduced[@]}"; do sets+=(--set "$s"); done
-# The study's screening levels (wheat.md).
+# The study's screening levels (docs/wheat.md).
 declare -A low=([fr_ww]=0 [fr_ws]=0.02 [fs_ww]=0.10 [fs_ws]=0.17 [e_ww]=0.30 [e_ws]=0.30)
 declare -A high=([fr_ww]=0.10 [fr_ws]=0.10 [fs_ww]=0.40 [fs_ws]=0.40 [e_ww]=0.60 [e_ws]=0.60)
 all=(fr_ww fr_ws fs_ww fs_ws e_ww e_ws)

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """The table of the full-size calibration cup cases (validation/run-cup.sh writes it to
-validation/results/cup.md and into validation/README.md): each case's results beside the
+validation/results/cup.md; --readme puts it into a README as well): each case's results beside the
 study's lab value and EDEM result (data/reference_values.csv), how far an unfinished case has
 got, and per particle model whether the bulk density falls from large to medium to small
-kernels, as wheat.md requires.
+kernels, as docs/wheat.md requires.
 
 usage: cup_table.py [--readme FILE] RUNS KEPT REFERENCES CASE...
   --readme FILE  also put the table into FILE, between the lines
@@ -23,7 +23,7 @@ import os
 import re
 import sys
 
-FRACTIONS = ("large", "medium", "small")  # wheat.md: bulk density falls in this order
+FRACTIONS = ("large", "medium", "small")  # docs/wheat.md: bulk density falls in this order
 
 
 def references(path):
@@ -125,7 +125,7 @@ def table(runs, kept, reference_csv, cases):
         bd = result("bulk_density")
         diff = f"{100 * (bd - measured[fraction]) / measured[fraction]:+.1f} %" if bd else ""
         # The unbalanced force ratio at the end of the rest stage says whether the heaped cup
-        # was static when the sensor measured it (about 1e-4, wheat.md); a jittering packing
+        # was static when the sensor measured it (about 1e-4, docs/wheat.md); a jittering packing
         # compacts.
         rest = [s["values"].get("unbalanced_force") for s in j["stages"] if s["name"] == "rest"]
         unbalanced = exponent(rest[0], 2) if rest and rest[0] is not None else ""

@@ -27,7 +27,7 @@ import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SPHERE = ["model=1s", "fr_ww=0.05", "fs_ww=0.172", "e_ww=0.5"]  # wheat.md: large-large, 1 sphere
+SPHERE = ["model=1s", "fr_ww=0.05", "fs_ww=0.172", "e_ww=0.5"]  # docs/wheat.md: large-large, 1 sphere
 
 # name: (scenario, parameter overrides)
 CUP = ["mass=80g", "cup_height=25mm"] + SPHERE
@@ -124,7 +124,7 @@ def main():
         check("compression", "the bulk density rises with every pressure level (0, 7 ... 138 kPa)",
               " < ".join(f"{x:.1f}" for x in curve), all(b > a_ for a_, b in zip(curve, curve[1:])))
         unbalanced = [result(comp, f"unbalanced_{k}") for k in range(1, 8)]
-        check("compression", "every hold ends quasi-static: unbalanced force ratio below 1e-4 (wheat.md)",
+        check("compression", "every hold ends quasi-static: unbalanced force ratio below 1e-4 (docs/wheat.md)",
               ", ".join(f"{u:.1e}" for u in unbalanced), max(unbalanced) < 1e-4)
     if a.only in (None, "tapped"):
         tap = run(a.bushel, "tapped", a.out)

@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # The study's calibration cup at full size (scenarios/calibration-cup.yaml, 325 g), for the
 # three size fractions with the calibrated 5-sphere model and with the single-sphere model and
-# its per-pair parameters, next to the study's measurements and EDEM results (wheat.md).
+# its per-pair parameters, next to the study's measurements and EDEM results (docs/wheat.md).
 #
 #   validation/run-cup.sh [CASE...]     # cases: large-5s medium-5s small-5s large-1s medium-1s small-1s
 #   validation/run-cup.sh --park        # keep the unfinished cases' checkpoints with the results
 #
 # Hours on 2 cores; on a machine used for other work too, two scripts with one thread each
-# (OMP_NUM_THREADS=1) go faster than one with two (validation/README.md). They may be given
+# (OMP_NUM_THREADS=1) go faster than one with two (bench/results/wait-policy.md). They may be given
 # the same cases: each leaves the case that the other is running to it and takes the next.
 # Each case runs in runs/validation/cup-CASE with a checkpoint every 5
 # minutes; run the script again after an interruption (Ctrl-C, a reboot) and it continues
@@ -17,8 +17,8 @@
 # `--park` (while the cases run or after) copies each unfinished case's latest checkpoint and
 # time series there too, compressed, so that a case can span machines: on a checkout without
 # the run folder, the script continues from the parked checkpoint. The table of every case so
-# far is written to validation/results/cup.md and validation/README.md (and printed) after each
-# case and after --park, and at the end
+# far is written to validation/results/cup.md (and printed) after each case and after --park,
+# and at the end
 # `bushel report` draws the cases beside the measurements in validation/results/cup/.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -28,7 +28,7 @@ kept="$root/validation/results/cup-runs"
 mkdir -p "$runs" "$kept"
 source "$root/validation/resume.sh"
 
-# case -> overrides: parameters by name (wheat.md: single-sphere fr_ww / fs_ww / e_ww per
+# case -> overrides: parameters by name (docs/wheat.md: single-sphere fr_ww / fs_ww / e_ww per
 # pair), other keys by path (simulation.time_step=5%rayleigh, say).
 declare -A sets=(
   [large-5s]="fraction=large model=5s"
@@ -70,10 +70,9 @@ unpark() {
   echo "$c: continuing from the checkpoint parked in $kept/cup-$c" >&2
 }
 
-# the table of every case so far and whether large > medium > small holds (validation/cup_table.py),
-# also put into validation/README.md
+# the table of every case so far and whether large > medium > small holds (validation/cup_table.py)
 table() {
-  /usr/bin/python3 "$root/validation/cup_table.py" --readme "$root/validation/README.md" \
+  /usr/bin/python3 "$root/validation/cup_table.py" \
     "$runs" "$kept" "$root/data/reference_values.csv" "${all[@]}"
 }
 

@@ -1,4 +1,4 @@
-// Checks of the geometry system (physics.md section 6, issue "Geometry"): contacts with
+// Checks of the geometry system (docs/physics.md section 6, issue "Geometry"): contacts with
 // meshes against the analytic plane, a scheduled rotation, and a servo lid on a bed.
 #include <fmt/format.h>
 

@@ -69,7 +69,7 @@ TemplateLibrary TemplateLibrary::read_csv(const std::string& path, const Templat
 
 const TemplateLibrary& TemplateLibrary::builtin() {
   // The study's single-sphere models: the sphere of each fraction's kernel mass (equivalent
-  // diameters 3.64 / 3.25 / 2.81 mm, wheat.md), next to the clumps, so that a scenario picks
+  // diameters 3.64 / 3.25 / 2.81 mm, docs/wheat.md), next to the clumps, so that a scenario picks
   // a model by name ("${fraction}_${model}").
   static const std::string single_spheres =
       "large_1s,Sphere0,0,0,0,1.82\nmedium_1s,Sphere0,0,0,0,1.625\nsmall_1s,Sphere0,0,0,0,1.405\n";

@@ -118,7 +118,7 @@ TEST(BinModel, FinerLayersConvergeAtSecondOrder) {
 
 TEST(BinModel, TradeUnitsRoundTrip) {
   const double lb_bu = units::parse("1lb/bu", units::dim::density);
-  EXPECT_NEAR(lb_bu, 12.8718, 1e-4);  // wheat.md: 1 lb/bu = 12.8719 kg/m3
+  EXPECT_NEAR(lb_bu, 12.8718, 1e-4);  // docs/wheat.md: 1 lb/bu = 12.8719 kg/m3
   EXPECT_NEAR(units::parse("60lb/bu", units::dim::density) / lb_bu, 60.0, 1e-12);
   const double bushel = units::parse("1bu", units::dim::volume);
   EXPECT_NEAR(units::parse("1000bu", units::dim::volume) / bushel, 1000.0, 1e-9);

@@ -1,4 +1,4 @@
-// The checks of `bushel verify` (physics.md section 7) in their quick form; the tolerances
+// The checks of `bushel verify` (docs/physics.md section 7) in their quick form; the tolerances
 // are stated with each check in src/experiments/verification.cpp.
 #include <gtest/gtest.h>
 

@@ -87,7 +87,7 @@ TEST(PseudoEllipsoid, OneSphereHasTheMassOrVolume) {
   s.spheres = 1;
   const ParticleTemplate g = make_pseudo_ellipsoid(s, "gen");
   EXPECT_NEAR(g.mass(1373.0), 0.0346e-3, 1e-12);
-  EXPECT_NEAR(g.equivalent_diameter(), 3.64e-3, 0.01e-3);  // wheat.md: 3.64 mm for large
+  EXPECT_NEAR(g.equivalent_diameter(), 3.64e-3, 0.01e-3);  // docs/wheat.md: 3.64 mm for large
   s.mass.reset();
   EXPECT_NEAR(make_pseudo_ellipsoid(s, "gen").volume, std::numbers::pi / 6 * 6.12e-3 * 3.05e-3 * 3.05e-3, 1e-15);
 }

@@ -1,4 +1,4 @@
-// Particle templates against the reference values of physics.md section 1.
+// Particle templates against the reference values of docs/physics.md section 1.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -27,7 +27,7 @@ TEST(TemplateReference, UnionVolumesWithinOnePercent) {
 }
 
 TEST(TemplateReference, Large5sMassAtWheatDensity) {
-  // physics.md: m = 0.0346 g at 1373 kg/m3.
+  // docs/physics.md: m = 0.0346 g at 1373 kg/m3.
   const double mass = TemplateLibrary::builtin().get("large_5s").mass(materials::wheat().density);
   EXPECT_NEAR(mass / 0.0346e-3, 1.0, 0.01);
 }

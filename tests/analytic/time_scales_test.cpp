@@ -10,7 +10,7 @@ namespace bushel {
 namespace {
 
 TEST(TimeScales, RayleighStepOfTheWheatModel) {
-  // physics.md section 3 by hand for R = 0.911 mm, wheat: pi R sqrt(rho/G) / (0.1631 nu + 0.8766).
+  // docs/physics.md section 3 by hand for R = 0.911 mm, wheat: pi R sqrt(rho/G) / (0.1631 nu + 0.8766).
   const Material w = materials::wheat();
   const double expected = std::numbers::pi * 0.911e-3 * std::sqrt(1373.0 / 22.4e6) / (0.1631 * 0.22 + 0.8766);
   EXPECT_DOUBLE_EQ(rayleigh_time_step(0.911e-3, w.density, w.shear_modulus, w.poisson_ratio), expected);

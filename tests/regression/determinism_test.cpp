@@ -1,4 +1,5 @@
-// Same input, same result, whatever the thread count (style guide item 7): a pour of
+// Same input, same result, whatever the thread count (no loop races: each writes only its own
+// slots and sums in a fixed order, so a fixed scene's final state hashes the same): a pour of
 // clumps and spheres large enough that every parallel loop really runs on several threads,
 // hashed bit for bit at 1 and 2 threads.
 #include <gtest/gtest.h>

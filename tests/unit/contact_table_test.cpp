@@ -8,7 +8,7 @@
 namespace bushel {
 namespace {
 
-// The single-sphere wheat model (wheat.md): per pair of size fractions for wheat-wheat,
+// The single-sphere wheat model (docs/wheat.md): per pair of size fractions for wheat-wheat,
 // one set for wheat-steel.
 ContactTable single_sphere_wheat() {
   ContactTable t({0.5, 0.5, 0.0});

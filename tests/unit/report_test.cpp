@@ -84,7 +84,7 @@ TEST(ReferenceValues, MatchRunsByScenarioAndParametersAsQuantities) {
   EXPECT_FALSE(reference_applies(refs[1], tw_none));   // a condition on a parameter the run lacks
   EXPECT_TRUE(reference_applies(refs[2], cup_small));  // no condition
 
-  // 62.69 lb/bu in kg/m3 (1 lb/bu = 12.8719 kg/m3 to the digits wheat.md gives), an angle in degrees
+  // 62.69 lb/bu in kg/m3 (1 lb/bu = 12.8719 kg/m3 to the digits docs/wheat.md gives), an angle in degrees
   EXPECT_NEAR(reference_in_unit_of(refs[1], {"bulk_density", 800.0, "kg/m3"}), 62.69 * 12.8719, 62.69 * 1e-4);
   EXPECT_NEAR(reference_in_unit_of(refs[2], {"heap_angle", 25.0, "deg"}), 30.0, 1e-12);
   const std::string e = error_of([&] { reference_in_unit_of(refs[1], {"bulk_density", 1.0, "Pa"}); });

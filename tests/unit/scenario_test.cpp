@@ -600,7 +600,7 @@ outputs:
 }
 
 TEST_F(ScenarioRun, WarnsOnceOfDeepOverlapsAcrossACheckpoint) {
-  // physics.md section 3: a warning when the largest overlap exceeds a few percent of the
+  // docs/physics.md section 3: a warning when the largest overlap exceeds a few percent of the
   // radius. Kernels 1000 times softer than wheat sink into each other under their own weight
   // in the cup, about 7 % at rest (500 times: 4.5 %; the default ones,
   // FillsSettlesAndWritesItsOutputs, stay far below: no warning). One warning names the

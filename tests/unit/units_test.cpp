@@ -30,7 +30,7 @@ TEST(Units, ParsesEverySuffixTheScenariosUse) {
 }
 
 TEST(Units, PoundsPerBushelMatchesTheStudysFactor) {
-  // wheat.md: 1 lb/bu = 12.8719 kg/m3.
+  // docs/wheat.md: 1 lb/bu = 12.8719 kg/m3.
   EXPECT_NEAR(parse("1lb/bu", dim::density), 12.8719, 1e-4);
   EXPECT_NEAR(to_unit(parse("60lb/bu", dim::density), "lb/bu"), 60.0, 1e-12);
   EXPECT_NEAR(to_unit(1101.22e-6, "bu"), 1.0 / 32.0, 1e-4);  // one quart is a 32nd of a bushel

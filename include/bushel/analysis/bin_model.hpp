@@ -1,6 +1,6 @@
 #pragma once
 // The mass of grain in a round bin, from the bin's shape, the grain's initial (uncompacted)
-// bulk density D_o and how it densifies under pressure (compressibility.hpp); wheat.md,
+// bulk density D_o and how it densifies under pressure (compressibility.hpp); docs/wheat.md,
 // "Formulas the program offers users".
 //
 // The vertical pressure follows Janssen's equation, dsigma/dz = gamma(z) - (K mu_w / R_h) sigma

@@ -1,7 +1,7 @@
 #pragma once
 // How stored grain densifies under the weight above it: bulk density as a function of the
 // vertical (overburden) pressure, D(P), for the bin model (bin_model.hpp). Three sources:
-//  - the WPACKING form (wheat.md, "Formulas the program offers users"),
+//  - the WPACKING form (docs/wheat.md, "Formulas the program offers users"),
 //      D - D_o = a P + b sqrt(P) + c P MC,
 //    with P in kPa, D in kg/m3 and MC the moisture content in % (wet basis), so a is in
 //    kg/m3 per kPa, b in kg/m3 per sqrt(kPa) and c in kg/m3 per kPa per % moisture;

@@ -1,5 +1,5 @@
 #pragma once
-// The quantities the grain trade works in (wheat.md, "Formulas the program offers users").
+// The quantities the grain trade works in (docs/wheat.md, "Formulas the program offers users").
 // All densities in kg/m3, volumes in m3, masses in kg.
 //
 // Two "packing ratios" appear in the literature, and both are offered under distinct names:

@@ -1,5 +1,5 @@
 #pragma once
-// Kernel shape factors from the three principal dimensions (wheat.md, "Formulas the program
+// Kernel shape factors from the three principal dimensions (docs/wheat.md, "Formulas the program
 // offers users"; Mohsenin, Physical Properties of Plant and Animal Materials).
 
 namespace bushel {

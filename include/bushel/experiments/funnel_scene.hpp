@@ -1,5 +1,5 @@
 #pragma once
-// The funnel discharge scene (wheat.md, virtual experiment 1, without the cup): grain falls
+// The funnel discharge scene (docs/wheat.md, virtual experiment 1, without the cup): grain falls
 // into a conical funnel closed by a hinged gate, settles, and the gate turns 180 degrees to
 // open the outlet. The funnel is the cone primitive or, for comparison, any mesh (e.g. the
 // same cone read from STL). Used by `bushel demo funnel`, the tests and the validation of

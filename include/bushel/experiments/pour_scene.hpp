@@ -1,7 +1,7 @@
 #pragma once
-// The "pour" scene (shared/reference/liggghts-pour): N particles placed at random without
-// overlap in a vertical cylinder at a loose solid fraction, at rest, then poured onto the
-// flat bottom under gravity. Built once here and used by `bushel demo pour`, the
+// The "pour" scene (as LIGGGHTS's pour inputs in bench/liggghts/): N particles placed at
+// random without overlap in a vertical cylinder at a loose solid fraction, at rest, then
+// poured onto the flat bottom under gravity. Built once here and used by `bushel demo pour`, the
 // determinism test and the benchmark against LIGGGHTS.
 
 #include <cstdint>
@@ -46,7 +46,7 @@ struct PourScene {
 std::vector<Vec3> random_cloud(std::size_t count, double radius, double exclusion, double solid_fraction,
                                std::uint64_t seed);
 
-/// The scene of physics.md materials (wheat in a steel cylinder; e 0.5/0.33, mu_s 0.27/0.17,
+/// The scene with the study's materials (docs/wheat.md; wheat in a steel cylinder; e 0.5/0.33, mu_s 0.27/0.17,
 /// mu_r 0.01/0.01), ready to step. Throws InputError for a bad spec.
 PourScene make_pour_scene(const PourSpec& spec);
 

@@ -1,5 +1,5 @@
 #pragma once
-// The analytic checks of physics.md section 7 as small scenes, written once and run by
+// The analytic checks of docs/physics.md section 7 as small scenes, written once and run by
 // `bushel verify`, by the test suite (with the tolerances stated here) and by anyone who
 // changes a contact law.
 

@@ -1,5 +1,5 @@
 #pragma once
-// The surfaces a geometry part is made of, in the part's own frame (physics.md section 6).
+// The surfaces a geometry part is made of, in the part's own frame (docs/physics.md section 6).
 // Four kinds cover every primitive and mesh:
 //   half_space  the plane z = 0 with matter below: a floor that nothing tunnels through
 //   revolved    a segment of the (rho, z) meridian plane turned about the z axis: a disc or

@@ -1,7 +1,7 @@
 #pragma once
 // Broad phase inside one part (a mesh of many triangles): a uniform grid over the part frame
 // in which each face is listed in every cell its bounding box overlaps, so that a sphere
-// only tests the faces near it (physics.md section 5, "geometry in the broad phase").
+// only tests the faces near it (docs/physics.md section 5, "geometry in the broad phase").
 
 #include <cstdint>
 #include <span>

@@ -1,5 +1,5 @@
 #pragma once
-// How a geometry part moves (physics.md section 6): prescribed segments, each active over
+// How a geometry part moves (docs/physics.md section 6): prescribed segments, each active over
 // [start, end), and an optional servo that moves the part along an axis to hold a force.
 // Segments active at the same time add up. Displacements are integrated exactly over the
 // part of each step a segment is active, so a gate told to turn 180 degrees at 7.85 rad/s

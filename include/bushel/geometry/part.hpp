@@ -1,6 +1,6 @@
 #pragma once
 // A geometry part: one primitive or mesh with a name, a material, a pose and a motion
-// (physics.md section 6). The name keys the contact pair table like a particle type. The
+// (docs/physics.md section 6). The name keys the contact pair table like a particle type. The
 // simulation moves the part and fills in what the particles did to it each step.
 
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// The contacts of one sphere with one part (physics.md section 6). Each nearby face offers
+// The contacts of one sphere with one part (docs/physics.md section 6). Each nearby face offers
 // its nearest point; the offers are merged so that one touch of the surface is one contact:
 //   - offers inside a face come before offers on a rim (edge or vertex), deeper before
 //     shallower (then by face index, so the result is deterministic);

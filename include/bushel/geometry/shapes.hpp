@@ -1,5 +1,5 @@
 #pragma once
-// The analytic primitives and meshes a geometry part can be (physics.md section 6), each
+// The analytic primitives and meshes a geometry part can be (docs/physics.md section 6), each
 // described in the part's own frame and turned into faces (face.hpp). The part's pose
 // places the frame in the world. For closed shapes (cylinder, cone, box) `side` says which
 // side particles touch: Side::back is the inside (the faces' fronts point outwards),

@@ -1,5 +1,5 @@
 #pragma once
-// Elastic and mass properties of a solid (physics.md section 2): what Hertz-Mindlin needs
+// Elastic and mass properties of a solid (docs/physics.md section 2): what Hertz-Mindlin needs
 // from each side of a contact.
 
 #include <string>
@@ -12,7 +12,7 @@ struct Material {
   double poisson_ratio = 0.0;  ///< nu [-], in (-1, 0.5)
   double density = 0.0;        ///< solid density rho [kg/m3]
 
-  /// Young's modulus E = 2 G (1 + nu) [Pa] (physics.md section 2).
+  /// Young's modulus E = 2 G (1 + nu) [Pa] (docs/physics.md section 2).
   double youngs_modulus() const { return 2.0 * shear_modulus * (1.0 + poisson_ratio); }
 };
 
@@ -25,7 +25,7 @@ double effective_youngs_modulus(const Material& a, const Material& b);
 /// Effective shear modulus G* [Pa] (Mindlin): 1/G* = (2 - nu_i)/G_i + (2 - nu_j)/G_j.
 double effective_shear_modulus(const Material& a, const Material& b);
 
-/// Materials of the reference wheat study (wheat.md, "Materials").
+/// Materials of the reference wheat study (docs/wheat.md, "Materials").
 namespace materials {
 /// Wheat kernel: G 22.4 MPa, nu 0.22, rho 1373 kg/m3.
 Material wheat();

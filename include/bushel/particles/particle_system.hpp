@@ -1,8 +1,8 @@
 #pragma once
 // The particle store: rigid bodies (spheres and clumps) and their sphere elements, in
-// structure-of-arrays form (style guide item 4). A body owns a contiguous run of sphere
-// elements; every element records its owner (item 5), so contacts work on elements and
-// forces are summed onto owners. Arrays are reordered by spatial sorting, so each body and
+// structure-of-arrays form (one array per field, so that the hot loops stream and vectorise).
+// A body owns a contiguous run of sphere elements; every element records its owner body, so
+// contacts work on elements and forces are summed onto owners. Arrays are reordered by spatial sorting, so each body and
 // each element also carries a stable id that never changes.
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// A particle shape: one sphere or a rigid clump of overlapping spheres (physics.md section 1),
+// A particle shape: one sphere or a rigid clump of overlapping spheres (docs/physics.md section 1),
 // stored in its principal frame with the centre of mass at the origin. Mass properties are
 // kept per unit density so one template serves any material.
 

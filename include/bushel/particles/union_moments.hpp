@@ -1,5 +1,5 @@
 #pragma once
-// Volume and moments of the union of overlapping spheres (physics.md section 1: overlaps
+// Volume and moments of the union of overlapping spheres (docs/physics.md section 1: overlaps
 // are counted once). Computed once per particle template, never in the time step.
 //
 // Method: the union is cut into columns along x on a square grid in (y, z). Within one
