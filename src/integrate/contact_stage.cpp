@@ -204,7 +204,7 @@ struct Deepest {
     // missed the cache there; fetched while this loop runs, they are in by then.
     __builtin_prefetch(history_of + p * stride, 1);
     // The second element of a pair a little ahead: its position and radius are this
-    // loop's only scattered reads, its owner the batch fill's first (bench/README.md).
+    // loop's only scattered reads, its owner the batch fill's first (bench/results/engine-tuning.md).
     if (constexpr std::size_t ahead_by = 16; p + ahead_by < p1) {
       const std::uint32_t ahead = second_of[p + ahead_by];
       __builtin_prefetch(x_of + ahead);

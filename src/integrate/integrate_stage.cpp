@@ -45,7 +45,7 @@ void kick(ParticleSystem& ps, double dt) {
     Vec3 l = ps.angular_momentum[b] + ps.torque[b] * dt;
     Vec3 l_body = transpose_times(r, l);
     // Constant directional rolling torque against the body's own spin, capped so that it can
-    // stop the spin within this step but never reverse it (physics.md: the CDT sign flip).
+    // stop the spin within this step but never reverse it (docs/physics.md section 2: the CDT sign flip).
     if (resisted) {
       const Vec3 u = omega / w0;
       const Vec3 u_body = transpose_times(r, u);

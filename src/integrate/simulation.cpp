@@ -13,7 +13,7 @@ namespace {
 
 // The adaptive skin's range, in shares of the largest element radius (0.11 and 0.35 of its
 // diameter): the least ran the settled bed of the pour benchmark 13% faster than 0.25 d and
-// the pour as fast (bench/README.md); the neighbour stage widens it where particles move fast.
+// the pour as fast (bench/results/engine-tuning.md); the neighbour stage widens it where particles move fast.
 constexpr double skin_least_per_radius = 0.22;
 constexpr double skin_most_per_radius = 0.70;
 

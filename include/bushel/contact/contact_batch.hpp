@@ -1,5 +1,5 @@
 #pragma once
-// Hertz-Mindlin (no slip) with EDEM's damping (physics.md section 2), solved for a batch of
+// Hertz-Mindlin (no slip) with EDEM's damping (docs/physics.md section 2), solved for a batch of
 // contacts at once. The batch is in structure-of-arrays form and the law is written without
 // branches, so the compiler runs several contacts per instruction (SSE2, or AVX2 or AVX-512
 // where the processor has them; all give the same bits: only IEEE add, multiply, divide and
@@ -20,7 +20,7 @@
 // well, -(F_t + gamma_t v_t) / S_t, it would give that share back as an elastic force when
 // the contact point slows: with strong damping (restitution 0.1) a sliding impact then pushed
 // the sphere forward and gained energy, and a poured packing came out 3 % denser
-// (docs/engine.md, contact law).
+// (validation/results/contact-law.md).
 //
 // lambda = limit / dt bounds the tangential damping by the sliding mass m_t of the contact
 // points (1/m_t = 1/m_i + 1/m_j + arm_i^2 / I_i + arm_j^2 / I_j), so that one step takes at most

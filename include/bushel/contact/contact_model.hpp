@@ -1,7 +1,7 @@
 #pragma once
-// The registry of contact sub-models (style guide item 2). Normal, damping and tangential
+// The registry of contact sub-models (each law is registered in this one table, so that adding one touches one file). Normal, damping and tangential
 // laws are Hertz, EDEM's viscoelastic damping and Mindlin no-slip with history
-// (physics.md section 2); rolling laws are selectable. The pair loop is instantiated once
+// (docs/physics.md section 2); rolling laws are selectable. The pair loop is instantiated once
 // per rolling model through std::visit, so no contact pays for a virtual call.
 
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Broad phase (physics.md section 5): a uniform cell grid and a Verlet half list of sphere
+// Broad phase (docs/physics.md section 5): a uniform cell grid and a Verlet half list of sphere
 // element pairs within r_i + r_j + skin, rebuilt only when some element has moved more than
 // half the skin since the last build. Elements of the same body never pair.
 //

@@ -1,6 +1,6 @@
 #pragma once
 // Everything a contact law needs about a pair of species, resolved once before the run so the
-// hot loop reads one small struct (physics.md section 2).
+// hot loop reads one small struct (docs/physics.md section 2).
 
 #include <cmath>
 #include <vector>

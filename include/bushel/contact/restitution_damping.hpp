@@ -2,7 +2,7 @@
 // The damping factor that makes a Hertzian impact rebound with the requested coefficient of
 // restitution.
 //
-// physics.md section 2 takes EDEM's factor, gamma = -2 sqrt(5/6) beta with
+// docs/physics.md section 2 gives EDEM's factor, gamma = -2 sqrt(5/6) beta with
 // beta = ln e / sqrt(ln^2 e + pi^2), in F_n = 4/3 E* sqrt(R*) delta^(3/2) + gamma sqrt(S_n m*) v_n,
 // and also clamps a net attractive F_n to zero. Unclamped, that factor returns exactly e;
 // clamped, the end of the contact (where damping would pull) is cut, and the rebound is

@@ -1,5 +1,5 @@
 #pragma once
-// Rolling resistance sub-models (physics.md section 2, "Rolling resistance"). Each declares
+// Rolling resistance sub-models (docs/physics.md section 2, "Rolling resistance"). Each declares
 // its name, how many history values it keeps and whether it reads the spins; the contact loop
 // is compiled once per model (no virtual call per contact). To add a model: write a struct
 // like these and list it in RollingModel (contact_model.hpp).

@@ -1,5 +1,5 @@
 #pragma once
-// Time scales that bound the DEM time step (physics.md section 3).
+// Time scales that bound the DEM time step (docs/physics.md section 3).
 
 namespace bushel {
 

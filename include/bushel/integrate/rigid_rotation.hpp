@@ -1,5 +1,5 @@
 #pragma once
-// Rotation of a rigid body with principal inertia (physics.md section 4): angular momentum
+// Rotation of a rigid body with principal inertia (docs/physics.md section 4): angular momentum
 // is advanced by the torque in the world frame; the orientation follows with the Richardson
 // scheme used for rigid bodies in LAMMPS/LIGGGHTS (a full step combined with two half steps,
 // second order), and the angular velocity is recovered from the momentum at the new pose.

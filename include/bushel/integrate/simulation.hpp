@@ -117,7 +117,7 @@ class Simulation {
   /// The unbalanced force ratio of the last step [-]: the mean net force on a particle over
   /// the mean force of a contact (sphere-sphere, and sphere-part per sphere and part), as
   /// Yade defines it. It falls towards 0 as a packing comes to static equilibrium (about 1e-4
-  /// is quasi-static, wheat.md); 1 when nothing touches while a force acts, 0 with no particles.
+  /// is quasi-static, docs/wheat.md); 1 when nothing touches while a force acts, 0 with no particles.
   double unbalanced_force_ratio() const;
   /// Number of sphere-sphere contacts (overlap > 0) in the last step.
   std::size_t contacts() const;
