@@ -43,16 +43,6 @@ struct LaneExtra {
   double arm_i_len, inertia_r, mu_r;
 };
 
-// Lane k's coefficients, in a pair batch or a contact batch.
-template <class Batch>
-void store_coefficients(Batch& b, int k, const PairCoefficients& c) {
-  b.youngs_modulus[k] = c.youngs_modulus;
-  b.stiffness_ratio[k] = c.stiffness_ratio;
-  b.root_stiffness_ratio[k] = c.root_stiffness_ratio;
-  b.damping[k] = c.damping;
-  b.static_friction[k] = c.static_friction;
-}
-
 struct PartLanes {
   ContactBatch batch;
   std::array<LaneExtra, ContactBatch::capacity> extra;
@@ -71,7 +61,7 @@ struct PartLanes {
     b.r_star[k] = r_star;
     b.m_star[k] = m_star;
     b.compliance[k] = compliance;
-    store_coefficients(b, k, c);
+    b.law.set(k, c);
     const double* history = extra[static_cast<std::size_t>(k)].history;
     b.xi_x[k] = history[0], b.xi_y[k] = history[1], b.xi_z[k] = history[2];
   }
@@ -92,7 +82,7 @@ struct PairLanes {
 [[gnu::noinline, gnu::cold]] void set_coefficients(PairLanes& pl, const PairCoefficients* coefficients) {
   PairBatch& b = pl.batch;
   for (int k = 1; k < b.size; ++k) {  // (lane 0's are set already)
-    store_coefficients(b, k, coefficients[pl.coefficient[static_cast<std::size_t>(k)]]);
+    b.law.set(k, coefficients[pl.coefficient[static_cast<std::size_t>(k)]]);
   }
 }
 [[gnu::noinline, gnu::cold]] void set_offsets(PairLanes& pl, std::span<const Vec3> x_el, std::span<const Vec3> x_b,
@@ -256,7 +246,7 @@ struct Deepest {
   pb.size = n;
   pb.centred = lone;
   pb.uniform = uniform;
-  store_coefficients(pb, 0, v.coefficients[co0]);
+  pb.law.set(0, v.coefficients[co0]);
   if (!uniform) set_coefficients(pl, v.coefficients);
   if (!lone) set_offsets(pl, v.x_el, v.x_b, v.inverse_inertia, v.owner, v.sphere_count, v.second);
 }

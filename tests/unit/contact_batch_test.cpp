@@ -63,11 +63,11 @@ TEST(PairBatch, MatchesContactBatchWithVec3Kinematics) {
     pairs.xi_x[k] = contacts.xi_x[k] = xi.x;
     pairs.xi_y[k] = contacts.xi_y[k] = xi.y;
     pairs.xi_z[k] = contacts.xi_z[k] = xi.z;
-    pairs.youngs_modulus[k] = contacts.youngs_modulus[k] = 1.4e7;
-    pairs.stiffness_ratio[k] = contacts.stiffness_ratio[k] = 0.87;
-    pairs.root_stiffness_ratio[k] = contacts.root_stiffness_ratio[k] = std::sqrt(0.87);
-    pairs.damping[k] = contacts.damping[k] = 0.48;
-    pairs.static_friction[k] = contacts.static_friction[k] = 0.27;
+    pairs.law.youngs_modulus[k] = contacts.law.youngs_modulus[k] = 1.4e7;
+    pairs.law.stiffness_ratio[k] = contacts.law.stiffness_ratio[k] = 0.87;
+    pairs.law.root_stiffness_ratio[k] = contacts.law.root_stiffness_ratio[k] = std::sqrt(0.87);
+    pairs.law.damping[k] = contacts.law.damping[k] = 0.48;
+    pairs.law.static_friction[k] = contacts.law.static_friction[k] = 0.27;
 
     // The same contact through Vec3: normal and overlap from the centres, contact point
     // c = x_i + (r_i - delta/2) n, arms from each centre of mass, velocity of i's point minus j's.
@@ -192,11 +192,11 @@ ContactBatch one_contact(double vx) {
   b.vx[0] = vx, b.vy[0] = 0.0, b.vz[0] = 0.0;
   b.r_star[0] = 1.82e-3;
   b.m_star[0] = 3.47e-5;
-  b.youngs_modulus[0] = 1.4e7;
-  b.stiffness_ratio[0] = 0.87;
-  b.root_stiffness_ratio[0] = std::sqrt(0.87);
-  b.damping[0] = 1.08;
-  b.static_friction[0] = 0.27;
+  b.law.youngs_modulus[0] = 1.4e7;
+  b.law.stiffness_ratio[0] = 0.87;
+  b.law.root_stiffness_ratio[0] = std::sqrt(0.87);
+  b.law.damping[0] = 1.08;
+  b.law.static_friction[0] = 0.27;
   b.compliance[0] = 3.5 / 3.47e-5;
   b.xi_x[0] = b.xi_y[0] = b.xi_z[0] = 0.0;
   return b;

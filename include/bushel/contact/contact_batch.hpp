@@ -1,5 +1,6 @@
 #pragma once
-// Hertz-Mindlin (no slip) with EDEM's damping (docs/physics.md section 2), solved for a batch of
+// Hertz-Mindlin (no slip) with EDEM's damping (docs/physics.md section 2; its sub-models in
+// contact_law.hpp), solved for a batch of
 // contacts at once. The batch is in structure-of-arrays form and the law is written without
 // branches, so the compiler runs several contacts per instruction (SSE2, or AVX2 or AVX-512
 // where the processor has them; all give the same bits: only IEEE add, multiply, divide and
@@ -29,6 +30,8 @@
 // for two spheres), so a resting packing at restitution 0.1 jittered at 0.2 of the Rayleigh
 // step without the bound. Contacts that the step resolves are not touched by it.
 
+#include "bushel/contact/contact_law.hpp"
+
 namespace bushel {
 
 /// Contacts whose normal, overlap and relative velocity are known (sphere-part contacts).
@@ -42,11 +45,7 @@ struct ContactBatch {
   double vx[capacity], vy[capacity], vz[capacity];  ///< velocity of i's contact point minus j's [m/s]
   double r_star[capacity];                          ///< R* [m]
   double m_star[capacity];                          ///< m* [kg]
-  double youngs_modulus[capacity];                  ///< E* [Pa]
-  double stiffness_ratio[capacity];                 ///< k = S_t / S_n [-]
-  double root_stiffness_ratio[capacity];            ///< sqrt(k) [-]
-  double damping[capacity];                         ///< gamma [-]
-  double static_friction[capacity];                 ///< mu_s [-]
+  LawLanes<capacity> law;                           ///< the law's coefficients
   double compliance[capacity];                      ///< 1/m_t, sliding compliance of the contact point [1/kg]
   // --- in and out -------------------------------------------------------------------------
   double xi_x[capacity], xi_y[capacity], xi_z[capacity];  ///< tangential displacement [m]
@@ -82,12 +81,8 @@ struct PairBatch {
   double wix[capacity], wiy[capacity], wiz[capacity];  ///< angular velocity of i's body [rad/s]
   double wjx[capacity], wjy[capacity], wjz[capacity];  ///< angular velocity of j's body [rad/s]
   double mi[capacity], mj[capacity];                   ///< body masses [kg]
-  double ji[capacity], jj[capacity];      ///< largest inverse principal moments [1/(kg m2)] (not read if centred)
-  double youngs_modulus[capacity];        ///< E* [Pa]
-  double stiffness_ratio[capacity];       ///< k = S_t / S_n [-]
-  double root_stiffness_ratio[capacity];  ///< sqrt(k) [-]
-  double damping[capacity];               ///< gamma [-]
-  double static_friction[capacity];       ///< mu_s [-]
+  double ji[capacity], jj[capacity];  ///< largest inverse principal moments [1/(kg m2)] (not read if centred)
+  LawLanes<capacity> law;             ///< the law's coefficients (lane 0's only, if uniform)
   // --- in and out -------------------------------------------------------------------------
   double xi_x[capacity], xi_y[capacity], xi_z[capacity];  ///< tangential displacement [m]
   // --- out --------------------------------------------------------------------------------
