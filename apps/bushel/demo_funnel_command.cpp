@@ -14,7 +14,7 @@
 #include "bushel/core/input_error.hpp"
 #include "bushel/experiments/funnel_scene.hpp"
 #include "bushel/io/atomic_file.hpp"
-#include "bushel/io/frame_writer.hpp"
+#include "bushel/scenario/frame_writer.hpp"
 #include "bushel/io/stl.hpp"
 #include "commands.hpp"
 

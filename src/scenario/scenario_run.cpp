@@ -28,7 +28,7 @@
 #include "bushel/io/atomic_file.hpp"
 #include "bushel/io/binary_archive.hpp"
 #include "bushel/io/csv.hpp"
-#include "bushel/io/frame_writer.hpp"
+#include "bushel/scenario/frame_writer.hpp"
 #include "bushel/sensors/heap_profile.hpp"
 #include "bushel/sensors/plane_flow.hpp"
 #include "bushel/sensors/region_sensor.hpp"

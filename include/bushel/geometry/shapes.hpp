@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "bushel/geometry/face.hpp"
-#include "bushel/geometry/triangle_mesh.hpp"
+#include "bushel/core/triangle_mesh.hpp"
 
 namespace bushel {
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "bushel/geometry/region.hpp"
-#include "bushel/geometry/triangle_mesh.hpp"
+#include "bushel/core/triangle_mesh.hpp"
 #include "bushel/integrate/simulation.hpp"
 #include "bushel/io/archive_fwd.hpp"
 

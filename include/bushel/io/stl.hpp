@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-#include "bushel/geometry/triangle_mesh.hpp"
+#include "bushel/core/triangle_mesh.hpp"
 
 namespace bushel::io {
 

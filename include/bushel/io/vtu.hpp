@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "bushel/core/vec3.hpp"
-#include "bushel/geometry/triangle_mesh.hpp"
+#include "bushel/core/triangle_mesh.hpp"
 
 namespace bushel::io {
 

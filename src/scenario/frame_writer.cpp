@@ -1,4 +1,4 @@
-#include "bushel/io/frame_writer.hpp"
+#include "bushel/scenario/frame_writer.hpp"
 
 #include <fmt/format.h>
 
