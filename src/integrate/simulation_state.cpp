@@ -56,22 +56,27 @@ void each_saved_member(W& w, F&& f) {
   f(w.diagnostics.contacts);
 }
 
-// The parts' poses, motions, servos and last forces.
+// Calls f on each saved field of a part and its geometry, in file order (P is Part or const
+// Part): its pose, motion, servo and last forces.
+template <class P, class G, class F>
+void each_part_field(P& p, G& g, F&& f) {
+  f(p.pose);
+  f(p.enabled);
+  f(p.motion.segments);
+  f(p.motion.has_servo);
+  f(p.motion.servo);
+  f(p.force);
+  f(p.torque);
+  f(p.twist);
+  f(p.servo);
+  f(p.touches);
+  f(g.moved);
+}
+
 void save_parts(io::BinaryWriter& out, const engine::World& w) {
   out.put(static_cast<std::uint64_t>(w.parts.size()));
   for (std::size_t i = 0; i < w.parts.size(); ++i) {
-    const Part& p = w.parts[i];
-    out.put(p.pose);
-    out.put(p.enabled);
-    out.put(p.motion.segments);
-    out.put(p.motion.has_servo);
-    out.put(p.motion.servo);
-    out.put(p.force);
-    out.put(p.torque);
-    out.put(p.twist);
-    out.put(p.servo);
-    out.put(static_cast<std::uint64_t>(p.touches));
-    out.put(w.geometry[i].moved);
+    each_part_field(w.parts[i], w.geometry[i], [&](const auto& m) { out.put(m); });
   }
 }
 
@@ -80,19 +85,8 @@ void load_parts(io::BinaryReader& in, engine::World& w) {
     throw InputError("the checkpoint has another number of geometry parts than the scenario");
   }
   for (std::size_t i = 0; i < w.parts.size(); ++i) {
-    Part& p = w.parts[i];
-    in.get(p.pose);
-    in.get(p.enabled);
-    in.get(p.motion.segments);
-    in.get(p.motion.has_servo);
-    in.get(p.motion.servo);
-    in.get(p.force);
-    in.get(p.torque);
-    in.get(p.twist);
-    in.get(p.servo);
-    p.touches = static_cast<std::size_t>(in.get<std::uint64_t>());
-    in.get(w.geometry[i].moved);
-    w.geometry[i].rotation = to_matrix(p.pose.orientation);
+    each_part_field(w.parts[i], w.geometry[i], [&](auto& m) { in.get(m); });
+    w.geometry[i].rotation = to_matrix(w.parts[i].pose.orientation);
   }
 }
 
