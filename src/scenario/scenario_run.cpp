@@ -19,7 +19,6 @@
 #include <optional>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "bushel/core/build_info.hpp"
 #include "bushel/core/input_error.hpp"
@@ -208,24 +207,6 @@ std::string format_duration(double s) {
   const auto t = static_cast<long>(s + 0.5);
   return t >= 3600 ? fmt::format("{}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
                    : fmt::format("{}:{:02}", t / 60, t % 60);
-}
-
-nlohmann::ordered_json values_json(const std::vector<std::pair<std::string, double>>& values) {
-  nlohmann::ordered_json j = nlohmann::ordered_json::object();
-  for (const auto& [k, v] : values) j[k] = std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
-  return j;
-}
-
-// Each profile as {"sensor": {"radius_m": [...], "height_m": [...]}} (null for empty rings).
-nlohmann::ordered_json profiles_json(const std::vector<StageReport::Profile>& profiles) {
-  nlohmann::ordered_json j = nlohmann::ordered_json::object();
-  for (const auto& p : profiles) {
-    nlohmann::ordered_json heights = nlohmann::ordered_json::array();
-    for (const double h : p.height)
-      heights.push_back(std::isfinite(h) ? nlohmann::ordered_json(h) : nlohmann::ordered_json());
-    j[p.sensor] = {{"radius_m", p.radius}, {"height_m", heights}};
-  }
-  return j;
 }
 
 // FNV-1a over the bits of the bodies' state: equal hashes, equal runs (restart, threads).
@@ -818,15 +799,16 @@ class Runner {
       if (st_.lost.total_count() > 0)
         report.warnings.push_back(lost_warning(st_.lost.total_count(), st_.lost.total_mass(), report.stages));
     }
-    write_summary(report);
+    report.summary = summary(report);
+    write_run_summary(report.summary, o_.out_dir);
     return report;
   }
 
-  // The scenario's results from the stages' end values: {"name": {"value": SI, "unit": ".."}};
-  // null for one whose stages have not run (an interrupted run), are skipped, or that cannot
-  // be computed (a warning, unless a stage it names is skipped or the run was interrupted).
-  nlohmann::ordered_json results_json(const RunReport& report, nlohmann::ordered_json& warnings) {
-    nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  // The scenario's results from the stages' end values (SI, angles in degrees): not computed
+  // for one whose stages have not run (an interrupted run), are skipped, or that cannot be
+  // computed (a warning, unless a stage it names is skipped or the run was interrupted).
+  std::vector<RunResult> results(const RunReport& report, std::vector<std::string>& warnings) {
+    std::vector<RunResult> out;
     for (const ResultSpec& r : sc_.results) {
       bool skipped = false;  // it names a stage with enabled: false
       std::string not_full;  // why a density it uses counts empty space
@@ -847,22 +829,21 @@ class Runner {
               std::find_if(s->values.begin(), s->values.end(), [&](const auto& x) { return x.first == value; });
           return v->second;  // (names were checked by read_scenario)
         });
-        j[r.name] = {{"value", result_value(q)}, {"unit", result_unit(q.dimension)}};
-        if (!not_full.empty()) {
-          j[r.name]["not_full"] = not_full;
-          warnings.push_back(fmt::format("result '{}' means little: {}", r.name, not_full));
-        }
+        const double v = result_value(q);
+        out.push_back({r.name, std::isfinite(v) ? std::optional(v) : std::nullopt,
+                       std::string(result_unit(q.dimension)), not_full});
+        if (!not_full.empty()) warnings.push_back(fmt::format("result '{}' means little: {}", r.name, not_full));
         if (o_.progress && !report.interrupted) {
           fmt::print(stderr, "  {} = {:.6g}{}{}{}\n", r.name, result_value(q),
                      q.dimension == units::dim::dimensionless ? "" : " ", result_unit(q.dimension),
                      not_full.empty() ? "" : "  (NOT FULL: see the warning)");
         }
       } catch (const InputError& e) {
-        j[r.name] = nullptr;
+        out.push_back({r.name, std::nullopt, "", "", false});
         if (!report.interrupted && !skipped) warnings.push_back("result '" + r.name + "': " + e.problem());
       }
     }
-    return j;
+    return out;
   }
 
   // For a density of a region sensor at the end of stage `r` ("cup.bulk_density"): what
@@ -894,76 +875,56 @@ class Runner {
     return s != nullptr && s->dt ? *s->dt : sc_.settings.dt;
   }
 
-  void write_summary(const RunReport& report) {
+  static FactorySummary factory_summary(const Factory& f, const std::vector<std::string>& type_names) {
+    FactorySummary out{f.spec().name, f.spec().fractions_by_mass, f.report().total_count, f.report().total_mass, {},
+                       f.done()};
+    const auto achieved = f.achieved_fractions();
+    for (std::size_t k = 0; k < f.spec().types.size(); ++k) {
+      out.types.push_back(
+          {type_names[f.spec().types[k]], f.report().count[k], f.report().mass[k], achieved[k], f.spec().fractions[k]});
+    }
+    return out;
+  }
+
+  static SinkSummary sink_summary(const Sink& k, const std::vector<std::string>& type_names) {
+    SinkSummary out{k.name, k.total_count(), k.total_mass(), {}};
+    for (std::size_t t = 0; t < k.count.size(); ++t) out.types.push_back({type_names[t], k.count[t], k.mass[t]});
+    return out;
+  }
+
+  // What summary.json holds: the report, the scenario's results (printed as they are
+  // computed), what the factories created and the sinks removed, the final values.
+  RunSummary summary(const RunReport& report) {
     namespace fs = std::filesystem;
-    nlohmann::ordered_json j;
-    j["scenario"] = fs::absolute(sc_.document.file).string();
-    j["engine"] = {{"version", build_info().version},
-                   {"commit", build_info().commit},
-                   {"uncommitted_changes", build_info().dirty},
-                   {"builds", report.engines}};
-    nlohmann::ordered_json overrides = nlohmann::ordered_json::array();
-    for (const auto& ov : sc_.document.overrides) overrides.push_back(ov.path + "=" + ov.value);
-    j["overrides"] = overrides;
-    j["parameters"] = sc_.document.parameters;
-    j["echo"] = echo_text(sc_.document);
-    j["interrupted"] = report.interrupted;
-    j["failed"] = report.failed.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(report.failed);
-    j["dt_s"] = sc_.settings.dt;
-    j["rayleigh_step_s"] = sc_.rayleigh_step;
-    j["steps"] = report.steps;
-    j["simulated_time_s"] = report.simulated_time;
-    j["wall_time_s"] = report.wall_time;
-    j["particle_steps_per_s"] = report.wall_time > 0.0 ? report.particle_steps / report.wall_time : 0.0;
-    nlohmann::ordered_json stages = nlohmann::ordered_json::array();
-    for (const auto& s : report.stages) {
-      stages.push_back({{"name", s.name},
-                        {"ended_by", s.ended_by},
-                        {"start_s", s.start},
-                        {"end_s", s.end},
-                        {"steps", s.steps},
-                        {"dt_s", stage_dt(s.name)},
-                        {"values", values_json(s.values)},
-                        {"heap_profiles", profiles_json(s.profiles)}});
-    }
-    j["stages"] = stages;
-    nlohmann::ordered_json warnings = report.warnings;
-    j["results"] = results_json(report, warnings);
-    nlohmann::ordered_json factories = nlohmann::ordered_json::array();
-    for (const auto& f : st_.factories) {
-      nlohmann::ordered_json types = nlohmann::ordered_json::object();
-      const auto achieved = f.achieved_fractions();
-      for (std::size_t k = 0; k < f.spec().types.size(); ++k) {
-        types[st_.type_names[f.spec().types[k]]] = {{"count", f.report().count[k]},
-                                                    {"mass_kg", f.report().mass[k]},
-                                                    {"fraction", achieved[k]},
-                                                    {"target_fraction", f.spec().fractions[k]}};
-      }
-      factories.push_back({{"name", f.spec().name},
-                           {"fractions_by", f.spec().fractions_by_mass ? "mass" : "count"},
-                           {"count", f.report().total_count},
-                           {"mass_kg", f.report().total_mass},
-                           {"done", f.done()},
-                           {"types", types}});
-    }
-    j["factories"] = factories;
-    auto sink_json = [&](const Sink& k) {
-      nlohmann::ordered_json types = nlohmann::ordered_json::object();
-      for (std::size_t t = 0; t < k.count.size(); ++t)
-        types[st_.type_names[t]] = {{"count", k.count[t]}, {"mass_kg", k.mass[t]}};
-      return nlohmann::ordered_json{
-          {"name", k.name}, {"count", k.total_count()}, {"mass_kg", k.total_mass()}, {"types", types}};
-    };
-    nlohmann::ordered_json sinks = nlohmann::ordered_json::array();
-    for (const auto& k : st_.sinks) sinks.push_back(sink_json(k));
-    j["sinks"] = sinks;
-    j["lost"] = sink_json(st_.lost);
-    j["final"] = values_json(st_.named_values());
-    j["final_state_hash"] = fmt::format("{:016x}", state_hash(st_.sim.particles()));
-    j["warnings"] = warnings;
-    // (bytes that are not UTF-8 in a name from a file are replaced: a summary is never lost to them)
-    io::write_file_atomically((fs::path(o_.out_dir) / "summary.json").string(),
-                              j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+    RunSummary s;
+    s.directory = o_.out_dir;
+    s.file = (fs::path(o_.out_dir) / "summary.json").string();
+    s.scenario = fs::absolute(sc_.document.file).string();
+    s.engine_version = build_info().version;
+    s.engine_commit = build_info().commit;
+    s.engine_dirty = build_info().dirty;
+    s.engines = report.engines;
+    for (const auto& ov : sc_.document.overrides) s.overrides.push_back(ov.path + "=" + ov.value);
+    s.parameters.assign(sc_.document.parameters.begin(), sc_.document.parameters.end());
+    s.echo = echo_text(sc_.document);
+    s.interrupted = report.interrupted;
+    s.failed = report.failed;
+    s.dt = sc_.settings.dt;
+    s.rayleigh_step = sc_.rayleigh_step;
+    s.steps = report.steps;
+    s.simulated_time = report.simulated_time;
+    s.wall_time = report.wall_time;
+    s.particle_steps_per_s = report.wall_time > 0.0 ? report.particle_steps / report.wall_time : 0.0;
+    s.stages = report.stages;
+    for (StageReport& st : s.stages) st.dt = stage_dt(st.name);
+    s.warnings = report.warnings;
+    s.results = results(report, s.warnings);
+    for (const auto& f : st_.factories) s.factories.push_back(factory_summary(f, st_.type_names));
+    for (const auto& k : st_.sinks) s.sinks.push_back(sink_summary(k, st_.type_names));
+    s.lost = sink_summary(st_.lost, st_.type_names);
+    s.final_values = st_.named_values();
+    s.final_state_hash = fmt::format("{:016x}", state_hash(st_.sim.particles()));
+    return s;
   }
 
   const Scenario& sc_;

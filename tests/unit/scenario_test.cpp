@@ -263,6 +263,14 @@ TEST_F(ScenarioRun, FillsSettlesAndWritesItsOutputs) {
   // cup holds a random packing of spheres: packing fraction 0.5 to 0.64.
   const double in_cup = end["particles"].get<double>();
   EXPECT_EQ(in_cup + j["sinks"][0]["count"].get<double>(), 300.0);
+  // One format: the summary the run returned, and the one read back, write the file's bytes.
+  const std::string file = io::read_text_file(path("out/summary.json"));
+  auto text = [](const RunSummary& s) {
+    return nlohmann::ordered_json(s).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  };
+  EXPECT_EQ(text(r.summary), file);
+  EXPECT_EQ(text(read_run_summary(path("out"))), file);
+  EXPECT_EQ(r.summary.file, path("out/summary.json"));
   EXPECT_GT(end["cup.packing_fraction"].get<double>(), 0.45);
   EXPECT_LT(end["cup.packing_fraction"].get<double>(), 0.66);
   EXPECT_NEAR(end["cup.bulk_density"].get<double>(), end["cup.packing_fraction"].get<double>() * 1373.0, 1e-6);
