@@ -18,7 +18,7 @@ void check_result(const ResultSpec& spec, const ScenarioNode& r, const Scenario&
   const std::vector<std::string>& values = cx.values;
   double stand_in = 1.0;
   try {
-    evaluate_result(spec, [&](const std::string& stage, const std::string& value) {
+    evaluate_result(spec, sc, [&](const std::string& stage, const std::string& value) {
       const bool known_stage =
           std::any_of(sc.stages.begin(), sc.stages.end(), [&](const StageSpec& x) { return x.name == stage; });
       if (!known_stage) {

@@ -82,7 +82,8 @@ void read_named_conditions(const ScenarioNode& until, StageSpec& stage, const Sc
     stage.reached = values[index_in(r->at("value"), values, "value")];
     const std::string side = r->one_of({"above", "below"});
     stage.reached_above = side == "above";
-    stage.reached_threshold = value_from_si(*stage.reached, r->at(side).quantity(value_dimension(*stage.reached)));
+    stage.reached_threshold =
+        sc.value_from_si(*stage.reached, r->at(side).quantity(sc.value_dimension(*stage.reached)));
   }
   if (const auto sb = until.find("stable")) {
     sb->allow_only({"value", "tolerance", "window"});

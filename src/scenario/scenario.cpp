@@ -9,87 +9,85 @@
 
 namespace bushel {
 
-std::vector<std::string> SensorSpec::values(const std::vector<std::string>& type_names) const {
-  switch (kind) {
-    case Kind::region: {
-      std::vector<std::string> v = {"mass",         "count",  "bulk_density",  "bulk_density_exact", "packing_fraction",
-                                    "coordination", "volume", "surface_margin"};
-      for (const auto& t : type_names) v.push_back("fraction_" + t);
-      return v;
-    }
-    case Kind::part: {
-      std::vector<std::string> v = {"force"};
-      if (area > 0.0) v.push_back("pressure");
-      v.insert(v.end(), {"force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z", "position_z", "angle"});
-      return v;
-    }
-    case Kind::heap:
-      return {"height", "angle"};
-    case Kind::flow:
-      return {"mass", "rate"};
+std::string_view to_string(StageEnd end) {
+  switch (end) {
+    case StageEnd::time:
+      return "time";
+    case StageEnd::kinetic_energy:
+      return "kinetic_energy";
+    case StageEnd::factories_done:
+      return "factories_done";
+    case StageEnd::servo_held:
+      return "servo_held";
+    case StageEnd::reached:
+      return "reached";
+    case StageEnd::stable:
+      return "stable";
+    case StageEnd::max_time:
+      return "max_time";
   }
-  return {};
+  return "?";
+}
+
+const std::vector<ValueColumn>& global_value_columns() {
+  namespace dim = units::dim;
+  static const std::vector<ValueColumn> columns = {{"time", dim::time},
+                                                   {"particles", dim::dimensionless},
+                                                   {"kinetic_energy", dim::energy},
+                                                   {"kinetic_energy_per_particle", dim::energy},
+                                                   {"potential_energy", dim::energy},
+                                                   {"max_overlap_ratio", dim::dimensionless},
+                                                   {"unbalanced_force", dim::dimensionless},
+                                                   {"contacts", dim::dimensionless},
+                                                   {"created_mass", dim::mass},
+                                                   {"removed_mass", dim::mass},
+                                                   {"lost_mass", dim::mass},
+                                                   {"lost_count", dim::dimensionless}};
+  return columns;
 }
 
 const std::vector<std::string>& global_value_names() {
-  static const std::vector<std::string> names = {"time",
-                                                 "particles",
-                                                 "kinetic_energy",
-                                                 "kinetic_energy_per_particle",
-                                                 "potential_energy",
-                                                 "max_overlap_ratio",
-                                                 "unbalanced_force",
-                                                 "contacts",
-                                                 "created_mass",
-                                                 "removed_mass",
-                                                 "lost_mass",
-                                                 "lost_count"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const ValueColumn& c : global_value_columns()) n.push_back(c.name);
+    return n;
+  }();
   return names;
 }
 
-units::Dimension value_dimension(const std::string& value_name) {
-  namespace dim = units::dim;
-  const std::string v = value_name.substr(value_name.rfind('.') + 1);
-  static const std::map<std::string, units::Dimension> by_name = {{"time", dim::time},
-                                                                  {"kinetic_energy", dim::energy},
-                                                                  {"kinetic_energy_per_particle", dim::energy},
-                                                                  {"potential_energy", dim::energy},
-                                                                  {"created_mass", dim::mass},
-                                                                  {"removed_mass", dim::mass},
-                                                                  {"lost_mass", dim::mass},
-                                                                  {"mass", dim::mass},
-                                                                  {"bulk_density", dim::density},
-                                                                  {"bulk_density_exact", dim::density},
-                                                                  {"volume", dim::volume},
-                                                                  {"force", dim::force},
-                                                                  {"force_x", dim::force},
-                                                                  {"force_y", dim::force},
-                                                                  {"force_z", dim::force},
-                                                                  {"pressure", dim::pressure},
-                                                                  {"torque_x", dim::energy},  // N m
-                                                                  {"torque_y", dim::energy},
-                                                                  {"torque_z", dim::energy},
-                                                                  {"position_z", dim::length},
-                                                                  {"surface_margin", dim::length},
-                                                                  {"height", dim::length},
-                                                                  {"rate", dim::mass_flow},
-                                                                  {"start", dim::time},
-                                                                  {"end", dim::time},
-                                                                  {"duration", dim::time},
-                                                                  {"angle", dim::angle}};
-  const auto it = by_name.find(v);
-  return it == by_name.end() ? dim::dimensionless : it->second;  // counts, fractions, ratios
+std::vector<ValueColumn> Scenario::value_columns() const {
+  std::vector<ValueColumn> columns = global_value_columns();
+  std::vector<std::string> type_names;
+  for (const auto& t : types) type_names.push_back(t.name);
+  for (const auto& s : sensors) {
+    for (auto& c : s.columns(type_names)) columns.push_back({s.name + "." + c.name, c.dimension});
+  }
+  return columns;
+}
+
+std::vector<std::string> Scenario::value_names() const {
+  std::vector<std::string> names;
+  for (const ValueColumn& c : value_columns()) names.push_back(c.name);
+  return names;
+}
+
+units::Dimension Scenario::value_dimension(const std::string& value_name) const {
+  if (value_name == "start" || value_name == "end" || value_name == "duration") return units::dim::time;
+  for (const ValueColumn& c : value_columns()) {
+    if (c.name == value_name) return c.dimension;
+  }
+  return units::dim::dimensionless;
 }
 
 namespace {
 constexpr double degree = std::numbers::pi / 180.0;
 }
 
-double value_to_si(const std::string& value_name, double value) {
+double Scenario::value_to_si(const std::string& value_name, double value) const {
   return value_dimension(value_name) == units::dim::angle ? value * degree : value;
 }
 
-double value_from_si(const std::string& value_name, double value_si) {
+double Scenario::value_from_si(const std::string& value_name, double value_si) const {
   return value_dimension(value_name) == units::dim::angle ? value_si / degree : value_si;
 }
 
@@ -97,25 +95,17 @@ std::string_view result_unit(units::Dimension d) { return d == units::dim::angle
 
 double result_value(const units::Quantity& q) { return q.dimension == units::dim::angle ? q.value / degree : q.value; }
 
-units::Quantity evaluate_result(const ResultSpec& result,
+units::Quantity evaluate_result(const ResultSpec& result, const Scenario& scenario,
                                 const std::function<double(const std::string&, const std::string&)>& value) {
   return units::evaluate(result.expression, [&](const std::string& name) {
     const std::size_t dot = name.find('.');
     if (dot == std::string::npos) {
       throw InputError("'" + name + "' is not a stage's value (expected stage.value, e.g. fill.cup.bulk_density)");
     }
-    return units::Quantity{value_to_si(name, value(name.substr(0, dot), name.substr(dot + 1))), value_dimension(name)};
+    const std::string own = name.substr(dot + 1);  // (the stage's own value, or one of the run's)
+    const double v = value(name.substr(0, dot), own);
+    return units::Quantity{scenario.value_to_si(own, v), scenario.value_dimension(own)};
   });
-}
-
-std::vector<std::string> Scenario::value_names() const {
-  std::vector<std::string> names = global_value_names();
-  std::vector<std::string> type_names;
-  for (const auto& t : types) type_names.push_back(t.name);
-  for (const auto& s : sensors) {
-    for (const auto& v : s.values(type_names)) names.push_back(s.name + "." + v);
-  }
-  return names;
 }
 
 Scenario read_scenario(ScenarioDocument document) {

@@ -31,6 +31,7 @@
 #include "bushel/sensors/heap_profile.hpp"
 #include "bushel/sensors/plane_flow.hpp"
 #include "bushel/sensors/region_sensor.hpp"
+#include "sensor_readings.hpp"
 
 #ifdef BUSHEL_HAVE_OPENMP
 #include <omp.h>
@@ -57,7 +58,8 @@ struct RunState {
   std::vector<bool> factory_on;
   std::vector<Sink> sinks;
   Sink lost{"domain", {}, true, {}, {}};
-  std::vector<PlaneFlow> flows;  // one per flow sensor, in order
+  std::vector<PlaneFlow> flows;           // one per flow sensor, in order
+  std::vector<const PlaneFlow*> flow_of;  // each sensor's in `flows`, or null
   std::vector<std::string> type_names, names;
 
   explicit RunState(const Scenario& s) : sc(s), sim(s.settings), factory_on(s.factory_enabled) {
@@ -69,7 +71,10 @@ struct RunState {
     for (const auto& f : sc.factories) factories.emplace_back(f, sim);
     for (const auto& k : sc.sinks) sinks.push_back({k.name, k.region, k.enabled, {}, {}});
     for (const auto& k : sc.sensors) {
-      if (k.kind == SensorSpec::Kind::flow) flows.emplace_back(k.point, k.normal, k.window);
+      if (const auto* f = k.as<FlowSensorSpec>()) flows.emplace_back(f->point, f->normal, f->window);
+    }
+    for (std::size_t i = 0, flow = 0; i < sc.sensors.size(); ++i) {
+      flow_of.push_back(sc.sensors[i].as<FlowSensorSpec>() ? &flows[flow++] : nullptr);
     }
     names = sc.value_names();
   }
@@ -107,62 +112,15 @@ struct RunState {
     return v;
   }
 
-  // A region sensor's region now: its top at its part's position, if it follows one.
-  Region region_now(const SensorSpec& s) const {
-    Region r = s.region;
-    if (!s.top_part) return r;
-    const double top = std::max(sim.part(*s.top_part).pose.position.z, r.lo().z);
-    if (r.kind == Region::Kind::cylinder) return Region::cylinder(r.position, r.radius, top - r.position.z);
-    const Vec3 lo = r.lo(), hi{r.hi().x, r.hi().y, top};
-    return Region::box(0.5 * (lo + hi), hi - lo);
-  }
-
-  // Sensor i's values, in the order of SensorSpec::values; `flow` indexes its PlaneFlow.
-  void append_sensor(std::size_t i, std::size_t flow, std::vector<double>& v) const {
-    const SensorSpec& s = sc.sensors[i];
-    switch (s.kind) {
-      case SensorSpec::Kind::region: {
-        const Region region = region_now(s);
-        const RegionReading r = read_region(sim, region);
-        // per the reference volume, where one is given (a heaped kettle over its own volume)
-        const double per = s.reference_volume > 0.0 ? region.volume() / s.reference_volume : 1.0;
-        v.insert(v.end(), {r.mass, static_cast<double>(r.count), r.bulk_density * per, r.bulk_density_exact * per,
-                           r.packing_fraction * per, r.coordination, region.volume(), r.surface_margin});
-        v.insert(v.end(), r.mass_fraction.begin(), r.mass_fraction.end());
-        break;
-      }
-      case SensorSpec::Kind::part: {
-        const Part& p = sim.part(s.part);
-        const double along = dot(p.force, s.axis);
-        v.push_back(along);
-        if (s.area > 0.0) v.push_back(along / s.area);
-        // the angle turned from the part's starting orientation [deg]
-        const Quat &q = p.pose.orientation, &q0 = sc.parts[s.part].pose.orientation;
-        const double w = std::min(1.0, std::abs(q.w * q0.w + q.x * q0.x + q.y * q0.y + q.z * q0.z));
-        v.insert(v.end(), {p.force.x, p.force.y, p.force.z, p.torque.x, p.torque.y, p.torque.z, p.pose.position.z,
-                           2.0 * std::acos(w) * 180.0 / std::numbers::pi});
-        break;
-      }
-      case SensorSpec::Kind::heap: {
-        const HeapProfile h = heap_profile(sim, s.centre.x, s.centre.y, s.outer, s.rings);
-        double top = 0.0;
-        for (const double x : h.height) top = std::isfinite(x) ? std::max(top, x) : top;
-        v.insert(v.end(), {top, h.angle * 180.0 / std::numbers::pi});
-        break;
-      }
-      case SensorSpec::Kind::flow:
-        v.insert(v.end(), {flows[flow].mass(), flows[flow].rate()});
-        break;
-    }
+  // Sensor i's values, in the order of its columns.
+  void append_sensor(std::size_t i, std::vector<double>& v) const {
+    append_values(sc.sensors[i], SensorInputs{sim, sc, flow_of[i]}, v);
   }
 
   // Every value, in the order of `names`.
   std::vector<double> values() const {
     std::vector<double> v = global_values();
-    for (std::size_t i = 0, flow = 0; i < sc.sensors.size(); ++i) {
-      append_sensor(i, flow, v);
-      flow += sc.sensors[i].kind == SensorSpec::Kind::flow ? 1 : 0;
-    }
+    for (std::size_t i = 0; i < sc.sensors.size(); ++i) append_sensor(i, v);
     return v;
   }
 
@@ -174,24 +132,37 @@ struct RunState {
     return out;
   }
 
-  // One value ("cup.bulk_density" or a global), reading only what it needs.
-  double value(const std::string& name) const {
+  // Where one value is: a global (no sensor) or a sensor's column.
+  struct ValueRef {
+    static constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
+    std::size_t sensor = none;  // none: a global
+    std::size_t column = none;  // none: no such value
+  };
+
+  // Where the value `name` ("cup.bulk_density" or a global) is; found once, read at every check.
+  ValueRef find(const std::string& name) const {
     const auto& g = global_value_names();
     if (const auto it = std::find(g.begin(), g.end(), name); it != g.end()) {
-      return global_values()[static_cast<std::size_t>(it - g.begin())];
+      return {ValueRef::none, static_cast<std::size_t>(it - g.begin())};
     }
-    for (std::size_t i = 0, flow = 0; i < sc.sensors.size(); ++i) {
+    for (std::size_t i = 0; i < sc.sensors.size(); ++i) {
       const SensorSpec& s = sc.sensors[i];
       const auto own = s.values(type_names);
       if (const auto it = std::find(own.begin(), own.end(), name.substr(std::min(name.size(), s.name.size() + 1)));
           name.starts_with(s.name + ".") && it != own.end()) {
-        std::vector<double> v;
-        append_sensor(i, flow, v);
-        return v[static_cast<std::size_t>(it - own.begin())];
+        return {i, static_cast<std::size_t>(it - own.begin())};
       }
-      flow += s.kind == SensorSpec::Kind::flow ? 1 : 0;
     }
-    return std::numeric_limits<double>::quiet_NaN();  // (names were checked by read_scenario)
+    return {};  // (names were checked by read_scenario)
+  }
+
+  // One value, reading only what it needs.
+  double value(const ValueRef& ref) const {
+    if (ref.column == ValueRef::none) return std::numeric_limits<double>::quiet_NaN();
+    if (ref.sensor == ValueRef::none) return global_values()[ref.column];
+    std::vector<double> v;
+    append_sensor(ref.sensor, v);
+    return v[ref.column];
   }
 };
 
@@ -586,41 +557,44 @@ class Runner {
     return all;
   }
 
-  // The first end condition the stage meets now, or "".
-  std::string ended_by(const StageSpec& stage) {
+  // The first end condition the stage meets now, or none. `reached` and `stable` locate the
+  // stage's values of those conditions.
+  std::optional<StageEnd> ended_by(const StageSpec& stage, const RunState::ValueRef& reached,
+                                   const RunState::ValueRef& stable) {
     const Simulation& sim = st_.sim;
     const double dt = sim.settings().dt, elapsed = sim.time() - pos_.t0;
-    if (stage.duration && elapsed >= *stage.duration - 0.5 * dt) return "time";
+    if (stage.duration && elapsed >= *stage.duration - 0.5 * dt) return StageEnd::time;
     if (elapsed >= stage.min_time - 0.5 * dt && elapsed > 0.0) {
-      if (stage.kinetic_energy && st_.kinetic_energy_per_particle() < *stage.kinetic_energy) return "kinetic_energy";
+      if (stage.kinetic_energy && st_.kinetic_energy_per_particle() < *stage.kinetic_energy)
+        return StageEnd::kinetic_energy;
       if (stage.factories_done) {
         bool all = true;
         for (std::size_t f = 0; f < st_.factories.size(); ++f)
           all = all && (!st_.factory_on[f] || st_.factories[f].done());
-        if (all) return "factories_done";
+        if (all) return StageEnd::factories_done;
       }
       if (stage.servo_part) {
         const ServoState& s = sim.part(*stage.servo_part).servo;
-        if (s.held && s.held_since >= 0.0 && sim.time() - s.held_since >= stage.servo_hold) return "servo_held";
+        if (s.held && s.held_since >= 0.0 && sim.time() - s.held_since >= stage.servo_hold) return StageEnd::servo_held;
       }
       if (stage.reached) {
-        const double v = st_.value(*stage.reached);
-        if (stage.reached_above ? v >= stage.reached_threshold : v <= stage.reached_threshold) return "reached";
+        const double v = st_.value(reached);
+        if (stage.reached_above ? v >= stage.reached_threshold : v <= stage.reached_threshold) return StageEnd::reached;
       }
       if (stage.stable) {
         SampleWindow& w = pos_.history;
         if (w.time.empty() || w.time.back() < sim.time()) {  // (once per time: a restart checks again)
-          w.add(sim.time(), st_.value(*stage.stable), stage.stable_window);
+          w.add(sim.time(), st_.value(stable), stage.stable_window);
         }
         const auto& v = w.value;
         if (w.time.front() <= sim.time() - stage.stable_window + 0.5 * dt) {
           const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-          if (*hi - *lo <= stage.stable_tolerance * std::max(std::abs(*lo), std::abs(*hi))) return "stable";
+          if (*hi - *lo <= stage.stable_tolerance * std::max(std::abs(*lo), std::abs(*hi))) return StageEnd::stable;
         }
       }
     }
-    if (elapsed >= stage.max_time - 0.5 * dt) return "max_time";
-    return "";
+    if (elapsed >= stage.max_time - 0.5 * dt) return StageEnd::max_time;
+    return std::nullopt;
   }
 
   void progress_line(const StageSpec& stage, double limit) {
@@ -670,8 +644,10 @@ class Runner {
       recent_steps_ = {};
       recent_steps_.add(0.0, static_cast<double>(sim.steps()), progress_window);
       const double limit = stage.duration ? std::min(*stage.duration, stage.max_time) : stage.max_time;
-      std::string end;
-      while ((end = ended_by(stage)).empty()) {
+      const RunState::ValueRef reached = stage.reached ? st_.find(*stage.reached) : RunState::ValueRef{};
+      const RunState::ValueRef stable = stage.stable ? st_.find(*stage.stable) : RunState::ValueRef{};
+      std::optional<StageEnd> end;
+      while (!(end = ended_by(stage, reached, stable))) {
         // outputs due now
         if (sim.time() >= pos_.next_row - 0.5 * dt) {
           write_row(stage.name);
@@ -722,26 +698,27 @@ class Runner {
         progress_line(stage, limit);
       }
       if (interrupted || !pos_.failed.empty()) break;
-      StageReport sr{stage.name, end, pos_.t0, sim.time(), sim.steps() - pos_.steps0, {}, {}};
+      StageReport sr{stage.name, std::string(to_string(*end)), pos_.t0, sim.time(), sim.steps() - pos_.steps0, {}, {}};
       sr.values = st_.named_values();
       for (const auto& k : sc_.sensors) {
-        if (k.kind != SensorSpec::Kind::heap) continue;
-        const HeapProfile h = heap_profile(sim, k.centre.x, k.centre.y, k.outer, k.rings);
+        const auto* heap = k.as<HeapSensorSpec>();
+        if (heap == nullptr) continue;
+        const HeapProfile h = heap_profile(sim, heap->centre.x, heap->centre.y, heap->outer, heap->rings);
         sr.profiles.push_back({k.name, h.radius, h.height});
       }
       if (o_.progress) {
         fmt::print(stderr, "{}stage {}/{} {} ended by {} at t = {:.4f} s ({} steps)\n", tty_ ? "\r" : "",
-                   pos_.stage + 1, sc_.stages.size(), stage.name, end, sim.time(), sr.steps);
+                   pos_.stage + 1, sc_.stages.size(), stage.name, sr.ended_by, sim.time(), sr.steps);
       }
-      if (end == "max_time" &&
+      if (*end == StageEnd::max_time &&
           (stage.kinetic_energy || stage.factories_done || stage.servo_part || stage.reached || stage.stable)) {
         pos_.warnings.push_back(
             fmt::format("stage '{}' ended at its time limit before its condition was met", stage.name));
       }
       const double unbalanced = sim.unbalanced_force_ratio();
       // (ended at its first check, far from rest: particles made at rest, all at once, before)
-      const bool at_first_check =
-          end == "kinetic_energy" && sr.steps <= static_cast<std::uint64_t>(std::round(sc_.check_interval / dt));
+      const bool at_first_check = *end == StageEnd::kinetic_energy &&
+                                  sr.steps <= static_cast<std::uint64_t>(std::round(sc_.check_interval / dt));
       if (at_first_check && unbalanced > jitter_unbalanced_force) {
         pos_.warnings.push_back(fmt::format(
             "stage '{}' ended at its first check with the kinetic energy already below its limit, though the "
@@ -813,7 +790,7 @@ class Runner {
       bool skipped = false;  // it names a stage with enabled: false
       std::string not_full;  // why a density it uses counts empty space
       try {
-        const units::Quantity q = evaluate_result(r, [&](const std::string& stage, const std::string& value) {
+        const units::Quantity q = evaluate_result(r, sc_, [&](const std::string& stage, const std::string& value) {
           const auto s = std::find_if(report.stages.begin(), report.stages.end(),
                                       [&](const StageReport& x) { return x.name == stage; });
           if (s == report.stages.end()) {

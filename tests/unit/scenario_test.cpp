@@ -119,7 +119,7 @@ TEST(Scenario, ReadsEverySectionInSI) {
   EXPECT_TRUE(sc.stages[0].factories_done);
   EXPECT_NEAR(*sc.stages[1].kinetic_energy, 1e-9, 1e-24);
   EXPECT_NEAR(sc.stages[1].min_time, 0.02, 1e-15);
-  EXPECT_NEAR(sc.sensors[1].area, 7.0686e-4, 1e-15);
+  EXPECT_NEAR(sc.sensors[1].as<PartSensorSpec>()->area, 7.0686e-4, 1e-15);
   // --set reaches any value, and parameters
   const Scenario big =
       read(small, {parse_override("parameters.count=300"), parse_override("simulation.time_step=1 us")});
@@ -128,12 +128,19 @@ TEST(Scenario, ReadsEverySectionInSI) {
 }
 
 TEST(Scenario, AnglesAreDegreesInTheRunAndRadiansInExpressions) {
-  EXPECT_EQ(value_dimension("gate.angle"), units::dim::angle);
-  EXPECT_EQ(value_dimension("heap.angle"), units::dim::angle);
-  EXPECT_EQ(value_dimension("cup.packing_fraction"), units::dim::dimensionless);
-  EXPECT_NEAR(value_to_si("gate.angle", 180.0), std::numbers::pi, 1e-15);
-  EXPECT_NEAR(value_from_si("gate.angle", std::numbers::pi / 4), 45.0, 1e-12);
-  EXPECT_EQ(value_to_si("cup.mass", 0.25), 0.25);
+  // (each sensor kind declares its values' dimensions: a part's and a heap's angle are angles)
+  const Scenario sc = read(small);
+  EXPECT_EQ(sc.value_dimension("bottom.angle"), units::dim::angle);
+  EXPECT_EQ(sc.value_dimension("surface.angle"), units::dim::angle);
+  EXPECT_EQ(sc.value_dimension("cup.packing_fraction"), units::dim::dimensionless);
+  EXPECT_EQ(sc.value_dimension("bottom.pressure"), units::dim::pressure);
+  EXPECT_EQ(sc.value_dimension("inflow.rate"), units::dim::mass_flow);
+  EXPECT_EQ(sc.value_dimension("kinetic_energy"), units::dim::energy);
+  EXPECT_EQ(sc.value_dimension("duration"), units::dim::time);
+  EXPECT_NEAR(sc.value_to_si("bottom.angle", 180.0), std::numbers::pi, 1e-15);
+  EXPECT_NEAR(sc.value_from_si("surface.angle", std::numbers::pi / 4), 45.0, 1e-12);
+  EXPECT_EQ(sc.value_to_si("cup.mass", 0.25), 0.25);
+  EXPECT_EQ(to_string(StageEnd::factories_done), "factories_done");
   EXPECT_EQ(result_unit(units::dim::angle), "deg");
   EXPECT_EQ(result_unit(units::dim::density), "kg/m3");
   EXPECT_NEAR(result_value({std::numbers::pi / 2, units::dim::angle}), 90.0, 1e-12);
