@@ -1,6 +1,6 @@
 #pragma once
-// Each sensor kind's reading (sensor_spec.hpp): its values now, in the order of its columns.
-// Internal to src/scenario.
+// Each sensor kind's reading (sensor_spec.hpp): its values now, in the order of its columns
+// (defined next to them, in sensor_kinds.cpp). Internal to src/scenario.
 
 #include <vector>
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -305,9 +306,15 @@ TEST_F(ScenarioRun, FillsSettlesAndWritesItsOutputs) {
   std::getline(lines, header);
   EXPECT_EQ(header.rfind("stage,time,particles,kinetic_energy,", 0), 0u) << header;
   int rows = 0;
-  for (std::string l; std::getline(lines, l);) ++rows;
+  for (std::string l; std::getline(lines, l);) {
+    ++rows;
+    EXPECT_EQ(std::count(l.begin(), l.end(), ','), std::count(header.begin(), header.end(), ',')) << l;
+  }
   EXPECT_GE(rows, static_cast<int>(r.simulated_time / 0.01));
   EXPECT_TRUE(std::filesystem::exists(path("out/frames/particles.pvd")));
+  // every sensor kind (region, part, flow, heap) reads as many values as its columns declare
+  EXPECT_EQ(r.summary.final_values.size(), sc.value_names().size());
+  EXPECT_EQ(r.summary.final_values.size(), sc.value_columns().size());
 }
 
 TEST_F(ScenarioRun, StagesEndOnTimeAndMoveParts) {

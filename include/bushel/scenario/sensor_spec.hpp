@@ -1,8 +1,8 @@
 #pragma once
 // A scenario's sensors, one type per kind: what each is given in the scenario (sensors:), and
 // the values it reports with their units, declared by the kind (not guessed from a name).
-// Each kind's reader is in src/scenario/read_sensors.cpp, its reading in
-// src/scenario/sensor_readings.cpp.
+// Each kind's reader is in src/scenario/read_sensors.cpp; its columns and its reading
+// (src/scenario/sensor_readings.hpp) side by side in src/scenario/sensor_kinds.cpp.
 
 #include <cstddef>
 #include <optional>
