@@ -14,7 +14,9 @@
 # and one with its own volume; heap, flow and part sensors with a pressure; frames; a skipped
 # stage; stable, reached, servo_held and factories_done conditions; results) run whole, stopped
 # at 90 ms and continued with --restart by each build and across the builds; the same failing a
-# guard; scenarios/cup-pour.yaml reduced with --set, with --json; `bushel validate`.
+# guard; scenarios/cup-pour.yaml reduced with --set, with --json; scenarios/calibration-cup.yaml
+# reduced (spheres, 3 g: a funnel, a gate turned open, a stable flow, a strike by a servo);
+# `bushel validate`, of a scenario and of one it refuses.
 set -euo pipefail
 a="$(realpath "$1")" b="$(realpath "$2")"
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -24,6 +26,8 @@ rm -rf "$work/A" "$work/B" && mkdir -p "$work/A" "$work/B"
 export OMP_NUM_THREADS=1
 press="$here/same_outputs/press.yaml"
 cup="$src/scenarios/cup-pour.yaml"
+calibration="$src/scenarios/calibration-cup.yaml"
+calibration_sets=(--set parameters.mass=3g --set parameters.model=1s)
 cup_sets=(--set parameters.mass=5g --set parameters.cup_radius=15mm --set parameters.pour_radius=12mm
           --set parameters.measured_height=5mm --set parameters.frame_interval=40ms)
 failures=0
@@ -73,6 +77,9 @@ compare_case failed failed
 # the README's cup, reduced, with --json on stdout
 both cup run "$cup" --out cup --quiet --json "${cup_sets[@]}"
 compare_case cup cup
+# the calibration cup, reduced: a funnel, a gate turned open, a stable flow, a strike by a servo
+both calibration run "$calibration" --out calibration --quiet "${calibration_sets[@]}"
+compare_case calibration calibration
 # a scenario described, and one refused
 both validate validate "$press"
 compare_case validate
