@@ -9,7 +9,7 @@
 #include "bushel/core/input_error.hpp"
 #include "bushel/io/atomic_file.hpp"
 
-namespace bushel {
+namespace bushel::scenario_running {
 namespace {
 
 // "bushel checkpoint N", N = Simulation::checkpoint_format.
@@ -204,4 +204,4 @@ ScenarioDocument read_checkpoint_head(io::BinaryReader& in, const std::string& p
   return doc;
 }
 
-}  // namespace bushel
+}  // namespace bushel::scenario_running

@@ -9,7 +9,7 @@
 #include "bushel/io/frame_writer.hpp"
 #include "run_state.hpp"
 
-namespace bushel {
+namespace bushel::scenario_running {
 
 /// Writes `out_dir`/checkpoint.bin (atomically); `wall` is the run's wall time so far [s].
 void save_checkpoint(const std::string& out_dir, const RunState& st, const Position& pos, const io::FrameWriter* frames,
@@ -23,4 +23,4 @@ ScenarioDocument read_checkpoint_head(io::BinaryReader& in, const std::string& p
 /// Reads the rest, the run and engine sections, into `st` and `pos` (and the frames' count).
 void load_checkpoint(io::BinaryReader& file, RunState& st, Position& pos, io::FrameWriter* frames);
 
-}  // namespace bushel
+}  // namespace bushel::scenario_running

@@ -17,7 +17,7 @@
 #include <omp.h>
 #endif
 
-namespace bushel {
+namespace bushel::scenario_running {
 namespace {
 
 // The progress line's steps/s and ETA are over this much of the latest wall time [s].
@@ -150,4 +150,4 @@ void Progress::interrupted(double time) {
              tty_ ? "\n" : "", time, o_.out_dir);
 }
 
-}  // namespace bushel
+}  // namespace bushel::scenario_running

@@ -12,7 +12,7 @@
 #include "bushel/integrate/simulation.hpp"
 #include "bushel/scenario/scenario_run.hpp"
 
-namespace bushel {
+namespace bushel::scenario_running {
 
 /// A fresh run's output folder: created, or refused if it holds another run's outputs unless
 /// the run may replace them, which are then removed first (so that no old frame or row is
@@ -66,4 +66,4 @@ class Progress {
   SampleWindow recent_steps_;  // (wall s since the stage's start in this sitting, step count)
 };
 
-}  // namespace bushel
+}  // namespace bushel::scenario_running

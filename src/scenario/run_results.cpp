@@ -9,7 +9,7 @@
 #include "bushel/core/build_info.hpp"
 #include "bushel/core/input_error.hpp"
 
-namespace bushel {
+namespace bushel::scenario_running {
 namespace {
 
 // For a density of a region sensor at the end of stage `r` ("cup.bulk_density"): what
@@ -104,7 +104,7 @@ std::vector<RunResult> results(const RunReport& report, const Scenario& sc, cons
 
 // What summary.json holds: the report, the scenario's results (printed as they are
 // computed), what the factories created and the sinks removed, the final values.
-RunSummary run_summary(const RunReport& report, const RunState& st, const RunOptions& o) {
+RunSummary build_run_summary(const RunReport& report, const RunState& st, const RunOptions& o) {
   const Scenario& sc = st.sc;
   namespace fs = std::filesystem;
   RunSummary s;
@@ -138,4 +138,4 @@ RunSummary run_summary(const RunReport& report, const RunState& st, const RunOpt
   return s;
 }
 
-}  // namespace bushel
+}  // namespace bushel::scenario_running

@@ -6,11 +6,11 @@
 #include "bushel/scenario/run_summary.hpp"
 #include "run_state.hpp"
 
-namespace bushel {
+namespace bushel::scenario_running {
 
 /// The run's summary; the results are printed on stderr as they are computed (a finished run,
 /// RunOptions::progress), and those that mean little or cannot be computed add warnings
 /// after report.warnings.
-RunSummary run_summary(const RunReport& report, const RunState& st, const RunOptions& o);
+RunSummary build_run_summary(const RunReport& report, const RunState& st, const RunOptions& o);
 
-}  // namespace bushel
+}  // namespace bushel::scenario_running

@@ -4,7 +4,7 @@
 
 #include "sensor_readings.hpp"
 
-namespace bushel {
+namespace bushel::scenario_running {
 
 Motion shifted(Motion m, double t0) {
   for (auto& s : m.segments) s.start += t0, s.end += t0;
@@ -95,4 +95,4 @@ std::uint64_t state_hash(const ParticleSystem& ps) {
   return h;
 }
 
-}  // namespace bushel
+}  // namespace bushel::scenario_running

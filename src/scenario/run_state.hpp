@@ -18,7 +18,7 @@
 #include "bushel/sensors/plane_flow.hpp"
 #include "sensor_readings.hpp"
 
-namespace bushel {
+namespace bushel::scenario_running {
 
 // Motion times of a stage count from its start.
 Motion shifted(Motion m, double t0);
@@ -111,4 +111,4 @@ std::string echo_text(const ScenarioDocument& doc);
 // FNV-1a over the bits of the bodies' state: equal hashes, equal runs (restart, threads).
 std::uint64_t state_hash(const ParticleSystem& ps);
 
-}  // namespace bushel
+}  // namespace bushel::scenario_running

@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-namespace bushel {
+namespace bushel::scenario_running {
 namespace {
 
 // A stage that waits for the particles to come to rest (a kinetic_energy condition) should end
@@ -151,4 +151,4 @@ void add_run_end_warnings(RunReport& report, const Position& pos, const RunState
     report.warnings.push_back(lost_warning(st.lost.total_count(), st.lost.total_mass(), report.stages));
 }
 
-}  // namespace bushel
+}  // namespace bushel::scenario_running

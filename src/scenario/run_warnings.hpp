@@ -9,7 +9,7 @@
 
 #include "run_state.hpp"
 
-namespace bushel {
+namespace bushel::scenario_running {
 
 /// physics.md section 3: warn when the largest overlap exceeds a few percent of the radius.
 /// Deeper than this the contacts are too soft for the impacts or loads of the stage, and what
@@ -24,4 +24,4 @@ void add_stage_end_warnings(const StageSpec& stage, StageEnd end, std::uint64_t 
 /// The warnings of a run at its end, after those of its stages (report.warnings).
 void add_run_end_warnings(RunReport& report, const Position& pos, const RunState& st);
 
-}  // namespace bushel
+}  // namespace bushel::scenario_running

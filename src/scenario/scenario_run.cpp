@@ -25,6 +25,7 @@
 namespace bushel {
 namespace {
 
+using namespace scenario_running;
 using Clock = std::chrono::steady_clock;
 
 // Ctrl-C: the run stops at its next check, writes a checkpoint and returns.
@@ -267,7 +268,7 @@ class Runner {
     report.warnings = pos_.warnings;
     report.engines = pos_.engines;
     add_run_end_warnings(report, pos_, st_);
-    report.summary = run_summary(report, st_, o_);
+    report.summary = build_run_summary(report, st_, o_);
     write_run_summary(report.summary, o_.out_dir);
     return report;
   }

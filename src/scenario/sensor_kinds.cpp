@@ -29,6 +29,8 @@ std::vector<ValueColumn> columns(const RegionSensorSpec&, const std::vector<std:
   return v;
 }
 
+namespace scenario_running {
+
 Region region_now(const RegionSensorSpec& s, const Simulation& sim) {
   Region r = s.region;
   if (!s.top_part) return r;
@@ -48,6 +50,8 @@ void append_values(const RegionSensorSpec& s, const SensorInputs& in, std::vecto
   v.insert(v.end(), r.mass_fraction.begin(), r.mass_fraction.end());
 }
 
+}  // namespace scenario_running
+
 // --- part -------------------------------------------------------------------------------------
 
 std::vector<ValueColumn> columns(const PartSensorSpec& s, const std::vector<std::string>&) {
@@ -64,6 +68,8 @@ std::vector<ValueColumn> columns(const PartSensorSpec& s, const std::vector<std:
   return v;
 }
 
+namespace scenario_running {
+
 void append_values(const PartSensorSpec& s, const SensorInputs& in, std::vector<double>& v) {
   const Part& p = in.sim.part(s.part);
   const double along = dot(p.force, s.axis);
@@ -76,11 +82,15 @@ void append_values(const PartSensorSpec& s, const SensorInputs& in, std::vector<
                      2.0 * std::acos(w) * 180.0 / std::numbers::pi});
 }
 
+}  // namespace scenario_running
+
 // --- heap -------------------------------------------------------------------------------------
 
 std::vector<ValueColumn> columns(const HeapSensorSpec&, const std::vector<std::string>&) {
   return {{"height", dim::length}, {"angle", dim::angle}};
 }
+
+namespace scenario_running {
 
 void append_values(const HeapSensorSpec& s, const SensorInputs& in, std::vector<double>& v) {
   const HeapProfile h = heap_profile(in.sim, s.centre.x, s.centre.y, s.outer, s.rings);
@@ -89,15 +99,21 @@ void append_values(const HeapSensorSpec& s, const SensorInputs& in, std::vector<
   v.insert(v.end(), {top, h.angle * 180.0 / std::numbers::pi});
 }
 
+}  // namespace scenario_running
+
 // --- flow -------------------------------------------------------------------------------------
 
 std::vector<ValueColumn> columns(const FlowSensorSpec&, const std::vector<std::string>&) {
   return {{"mass", dim::mass}, {"rate", dim::mass_flow}};
 }
 
+namespace scenario_running {
+
 void append_values(const FlowSensorSpec&, const SensorInputs& in, std::vector<double>& v) {
   v.insert(v.end(), {in.flow->mass(), in.flow->rate()});
 }
+
+}  // namespace scenario_running
 
 // --- any kind ---------------------------------------------------------------------------------
 
@@ -111,8 +127,12 @@ std::vector<std::string> SensorSpec::values(const std::vector<std::string>& type
   return names;
 }
 
+namespace scenario_running {
+
 void append_values(const SensorSpec& s, const SensorInputs& in, std::vector<double>& v) {
   std::visit([&](const auto& k) { append_values(k, in, v); }, s.kind);
 }
+
+}  // namespace scenario_running
 
 }  // namespace bushel

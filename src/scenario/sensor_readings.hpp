@@ -8,7 +8,7 @@
 #include "bushel/scenario/scenario.hpp"
 #include "bushel/sensors/plane_flow.hpp"
 
-namespace bushel {
+namespace bushel::scenario_running {
 
 /// What a sensor reads: the simulation, the scenario (its parts' starting poses), and for a
 /// flow sensor its count of the grain through its plane.
@@ -28,4 +28,4 @@ void append_values(const FlowSensorSpec& s, const SensorInputs& in, std::vector<
 /// Any kind's.
 void append_values(const SensorSpec& s, const SensorInputs& in, std::vector<double>& v);
 
-}  // namespace bushel
+}  // namespace bushel::scenario_running
