@@ -16,7 +16,7 @@ namespace bushel {
 
 struct StageReport {
   std::string name;
-  std::string ended_by;           ///< time, kinetic_energy, factories_done, servo_held, stable or max_time
+  std::string ended_by;           ///< what ended it: to_string(StageEnd) (scenario.hpp), "max_time", ...
   double start = 0.0, end = 0.0;  ///< [s]
   std::uint64_t steps = 0;
   std::vector<std::pair<std::string, double>> values;  ///< every value at the stage's end
