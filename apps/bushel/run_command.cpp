@@ -110,7 +110,7 @@ void add_run_command(CLI::App& app) {
     // checkpoint written; 128 + the signal, as a shell reports one (130 for Ctrl-C, 143 for SIGTERM)
     if (r.interrupted) std::exit(r.at_stop_time ? 0 : 128 + r.signal);
     if (o->json) {  // for programs: `bushel doe run --scenario` reads the results from here
-      const RunSummary summary = read_run_summary(options.out_dir);
+      const RunSummary& summary = r.summary;
       nlohmann::ordered_json results = nlohmann::ordered_json::object(), units = nlohmann::ordered_json::object();
       for (const RunResult& res : summary.results) {
         results[res.name] = res.value ? nlohmann::ordered_json(*res.value) : nlohmann::ordered_json();

@@ -160,8 +160,11 @@ Vec3 ScenarioNode::vector(units::Dimension d) const {
 }
 
 std::string ScenarioNode::choice(std::initializer_list<std::string_view> choices) const {
+  return choice(strings(choices));
+}
+
+std::string ScenarioNode::choice(const std::vector<std::string>& known) const {
   const std::string t = text();
-  const std::vector<std::string> known = strings(choices);
   if (std::find(known.begin(), known.end(), t) != known.end()) return t;
   throw error("unknown value '" + t + "'" + did_you_mean(t, known) + "; expected one of " + join(known));
 }

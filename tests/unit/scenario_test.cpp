@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -119,7 +120,7 @@ TEST(Scenario, ReadsEverySectionInSI) {
   EXPECT_TRUE(sc.stages[0].factories_done);
   EXPECT_NEAR(*sc.stages[1].kinetic_energy, 1e-9, 1e-24);
   EXPECT_NEAR(sc.stages[1].min_time, 0.02, 1e-15);
-  EXPECT_NEAR(sc.sensors[1].area, 7.0686e-4, 1e-15);
+  EXPECT_NEAR(sc.sensors[1].as<PartSensorSpec>()->area, 7.0686e-4, 1e-15);
   // --set reaches any value, and parameters
   const Scenario big =
       read(small, {parse_override("parameters.count=300"), parse_override("simulation.time_step=1 us")});
@@ -127,13 +128,29 @@ TEST(Scenario, ReadsEverySectionInSI) {
   EXPECT_NEAR(big.settings.dt, 1e-6, 1e-18);
 }
 
+TEST(Scenario, RollingModelsComeFromTheRegistry) {
+  const std::string with = replaced(small, "time_step: 0.2 rayleigh", "time_step: 0.2 rayleigh\n  rolling: liggghts_cdt");
+  EXPECT_EQ(read(with).settings.rolling, "liggghts_cdt");
+  const std::string error = error_of(replaced(with, "rolling: liggghts_cdt", "rolling: ligghts_cdt"));
+  EXPECT_NE(error.find("(did you mean 'liggghts_cdt'?); expected one of cdt, epsd, liggghts_cdt, none"),
+            std::string::npos)
+      << error;
+}
+
 TEST(Scenario, AnglesAreDegreesInTheRunAndRadiansInExpressions) {
-  EXPECT_EQ(value_dimension("gate.angle"), units::dim::angle);
-  EXPECT_EQ(value_dimension("heap.angle"), units::dim::angle);
-  EXPECT_EQ(value_dimension("cup.packing_fraction"), units::dim::dimensionless);
-  EXPECT_NEAR(value_to_si("gate.angle", 180.0), std::numbers::pi, 1e-15);
-  EXPECT_NEAR(value_from_si("gate.angle", std::numbers::pi / 4), 45.0, 1e-12);
-  EXPECT_EQ(value_to_si("cup.mass", 0.25), 0.25);
+  // (each sensor kind declares its values' dimensions: a part's and a heap's angle are angles)
+  const Scenario sc = read(small);
+  EXPECT_EQ(sc.value_dimension("bottom.angle"), units::dim::angle);
+  EXPECT_EQ(sc.value_dimension("surface.angle"), units::dim::angle);
+  EXPECT_EQ(sc.value_dimension("cup.packing_fraction"), units::dim::dimensionless);
+  EXPECT_EQ(sc.value_dimension("bottom.pressure"), units::dim::pressure);
+  EXPECT_EQ(sc.value_dimension("inflow.rate"), units::dim::mass_flow);
+  EXPECT_EQ(sc.value_dimension("kinetic_energy"), units::dim::energy);
+  EXPECT_EQ(sc.value_dimension("duration"), units::dim::time);
+  EXPECT_NEAR(sc.value_to_si("bottom.angle", 180.0), std::numbers::pi, 1e-15);
+  EXPECT_NEAR(sc.value_from_si("surface.angle", std::numbers::pi / 4), 45.0, 1e-12);
+  EXPECT_EQ(sc.value_to_si("cup.mass", 0.25), 0.25);
+  EXPECT_EQ(to_string(StageEnd::factories_done), "factories_done");
   EXPECT_EQ(result_unit(units::dim::angle), "deg");
   EXPECT_EQ(result_unit(units::dim::density), "kg/m3");
   EXPECT_NEAR(result_value({std::numbers::pi / 2, units::dim::angle}), 90.0, 1e-12);
@@ -263,6 +280,14 @@ TEST_F(ScenarioRun, FillsSettlesAndWritesItsOutputs) {
   // cup holds a random packing of spheres: packing fraction 0.5 to 0.64.
   const double in_cup = end["particles"].get<double>();
   EXPECT_EQ(in_cup + j["sinks"][0]["count"].get<double>(), 300.0);
+  // One format: the summary the run returned, and the one read back, write the file's bytes.
+  const std::string file = io::read_text_file(path("out/summary.json"));
+  auto text = [](const RunSummary& s) {
+    return nlohmann::ordered_json(s).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  };
+  EXPECT_EQ(text(r.summary), file);
+  EXPECT_EQ(text(read_run_summary(path("out"))), file);
+  EXPECT_EQ(r.summary.file, path("out/summary.json"));
   EXPECT_GT(end["cup.packing_fraction"].get<double>(), 0.45);
   EXPECT_LT(end["cup.packing_fraction"].get<double>(), 0.66);
   EXPECT_NEAR(end["cup.bulk_density"].get<double>(), end["cup.packing_fraction"].get<double>() * 1373.0, 1e-6);
@@ -290,9 +315,15 @@ TEST_F(ScenarioRun, FillsSettlesAndWritesItsOutputs) {
   std::getline(lines, header);
   EXPECT_EQ(header.rfind("stage,time,particles,kinetic_energy,", 0), 0u) << header;
   int rows = 0;
-  for (std::string l; std::getline(lines, l);) ++rows;
+  for (std::string l; std::getline(lines, l);) {
+    ++rows;
+    EXPECT_EQ(std::count(l.begin(), l.end(), ','), std::count(header.begin(), header.end(), ',')) << l;
+  }
   EXPECT_GE(rows, static_cast<int>(r.simulated_time / 0.01));
   EXPECT_TRUE(std::filesystem::exists(path("out/frames/particles.pvd")));
+  // every sensor kind (region, part, flow, heap) reads as many values as its columns declare
+  EXPECT_EQ(r.summary.final_values.size(), sc.value_names().size());
+  EXPECT_EQ(r.summary.final_values.size(), sc.value_columns().size());
 }
 
 TEST_F(ScenarioRun, StagesEndOnTimeAndMoveParts) {

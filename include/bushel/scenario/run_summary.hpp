@@ -1,15 +1,34 @@
 #pragma once
-// The read side of a run's summary.json (scenario_run.hpp writes it): what `bushel report`
-// and the analysis commands take from a finished (or interrupted) run directory.
+// A run's summary: what its summary.json holds, in one type. The run builds it and writes it
+// (scenario_run.hpp, which returns it in its RunReport); `bushel report` and the analysis
+// commands read it back from a finished (or interrupted) run directory. to_json and from_json
+// are the one description of the format.
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "bushel/scenario/scenario_run.hpp"
+#include <nlohmann/json_fwd.hpp>
 
 namespace bushel {
+
+struct StageReport {
+  std::string name;
+  std::string ended_by;           ///< what ended it: to_string(StageEnd) (scenario.hpp), "max_time", ...
+  double start = 0.0, end = 0.0;  ///< [s]
+  std::uint64_t steps = 0;
+  std::vector<std::pair<std::string, double>> values;  ///< every value at the stage's end
+  /// Each heap sensor's surface at the stage's end: its name, ring radii [m], heights [m]
+  /// (NaN where a ring holds no grain).
+  struct Profile {
+    std::string sensor;
+    std::vector<double> radius, height;
+  };
+  std::vector<Profile> profiles;
+  double dt = 0.0;  ///< the time step it ran with [s] (in the summary; a checkpoint does not hold it)
+};
 
 /// One result of the scenario's `results:` section.
 struct RunResult {
@@ -19,6 +38,7 @@ struct RunResult {
   /// Why the value means little, if it does: a density of a region sensor that was not full
   /// (its top above the grain surface); "" otherwise.
   std::string not_full{};
+  bool computed = true;  ///< false: null in summary.json (its stages did not run, or it failed)
 };
 
 /// What one factory created, per particle type.
@@ -36,17 +56,36 @@ struct FactorySummary {
   std::size_t count = 0;
   double mass = 0.0;  ///< [kg]
   std::vector<FactoryTypeSummary> types;
+  bool done = false;  ///< it created its total
+};
+
+/// What a sink (or the domain's boundary, for the particles lost) removed, per particle type.
+struct SinkSummary {
+  struct Type {
+    std::string type;
+    std::size_t count = 0;
+    double mass = 0.0;  ///< [kg]
+  };
+  std::string name;
+  std::size_t count = 0;
+  double mass = 0.0;  ///< [kg]
+  std::vector<Type> types;
 };
 
 struct RunSummary {
   std::string directory;                                        ///< the run directory as given
   std::string file;                                             ///< its summary.json
   std::string scenario;                                         ///< the scenario file's path
+  std::string engine_version, engine_commit;                    ///< the build that wrote it
+  bool engine_dirty = false;                                    ///< built with uncommitted changes
   std::vector<std::pair<std::string, std::string>> parameters;  ///< as run, in file order (text with units)
   std::vector<std::string> overrides;                           ///< "path=value" from --set
   std::vector<std::string> engines;  ///< the builds that ran it, oldest first; empty in older summaries
+  std::string echo;                  ///< the scenario as resolved, as YAML text
   bool interrupted = false;
+  std::string failed;                 ///< why a guard stopped the run; "" if none did
   double dt = 0.0;                    ///< [s]
+  double rayleigh_step = 0.0;         ///< of the smallest element [s]
   std::size_t steps = 0;              ///< time steps
   double simulated_time = 0.0;        ///< [s]
   double wall_time = 0.0;             ///< [s]
@@ -54,6 +93,10 @@ struct RunSummary {
   std::vector<StageReport> stages;    ///< the stages that ran (ended), with values and heap profiles
   std::vector<RunResult> results;
   std::vector<FactorySummary> factories;
+  std::vector<SinkSummary> sinks;
+  SinkSummary lost;                                          ///< the particles that left the domain
+  std::vector<std::pair<std::string, double>> final_values;  ///< every value at the end (NaN: none)
+  std::string final_state_hash;  ///< of the bodies' state bits, in hex: equal hashes, equal runs
   std::vector<std::string> warnings;
 
   /// The scenario's name: its file name without the extension ("calibration-cup").
@@ -68,6 +111,15 @@ struct RunSummary {
   /// ("pressure_3", "bulk_density_3"), sorted by x: the convention of docs/report.md.
   std::vector<std::pair<double, double>> curve(const std::string& x, const std::string& y) const;
 };
+
+/// summary.json's content, its keys in the order the file has them.
+void to_json(nlohmann::ordered_json& j, const RunSummary& s);
+/// Reads what to_json writes, and older summaries (without the keys added since). Throws
+/// InputError naming the key for a missing key or one of another kind.
+void from_json(const nlohmann::ordered_json& j, RunSummary& s);
+
+/// Writes `s` as `dir`/summary.json (atomically).
+void write_run_summary(const RunSummary& s, const std::string& dir);
 
 /// True if `path` names what read_run_summary reads, a folder or a .json file, rather than
 /// something else (a table, a quantity).

@@ -19,29 +19,10 @@
 #include "bushel/integrate/simulation.hpp"
 #include "bushel/scenario/run_guards.hpp"
 #include "bushel/scenario/scenario_document.hpp"
+#include "bushel/scenario/sensor_spec.hpp"
 #include "bushel/units/expression.hpp"
 
 namespace bushel {
-
-struct SensorSpec {
-  enum class Kind { region, part, heap, flow };
-  std::string name;
-  Kind kind = Kind::region;
-  Region region;                        ///< region sensors
-  double reference_volume = 0.0;        ///< region: bulk density = mass / this [m3]; 0 = the region's volume
-  std::optional<std::size_t> top_part;  ///< region: its top follows this part's position (a lid)
-  std::size_t part = 0;                 ///< part sensors: index of the part
-  Vec3 axis{0, 0, -1};                  ///< part sensors: the force is measured along this unit vector
-  double area = 0.0;                    ///< part sensors: pressure = force / area [m2]; 0 = no pressure
-  Vec3 centre;                          ///< heap: a point on the vertical axis [m]
-  double outer = 0.0;                   ///< heap: outer radius [m]
-  int rings = 20;                       ///< heap: number of rings
-  Vec3 point;                           ///< flow: a point of the plane [m]
-  Vec3 normal{0, 0, -1};                ///< flow: unit normal, the direction counted positive
-  double window = 0.05;                 ///< flow: the rate's averaging time [s]
-  /// The names of its values ("bulk_density", ...), without the sensor's name.
-  std::vector<std::string> values(const std::vector<std::string>& type_names) const;
-};
 
 struct SinkSpec {
   std::string name;
@@ -77,6 +58,12 @@ struct StageSpec {
   double max_time = std::numeric_limits<double>::infinity();  ///< it ends at the latest after this [s]
 };
 
+/// What ended a stage: the first of its end conditions met (StageSpec's, in this order).
+enum class StageEnd { time, kinetic_energy, factories_done, servo_held, reached, stable, max_time };
+
+/// Its name in the outputs ("factories_done").
+std::string_view to_string(StageEnd end);
+
 struct OutputSpec {
   double series_interval = 0.01;    ///< timeseries.csv row interval [s]
   std::vector<std::string> series;  ///< its columns ("cup.bulk_density"); empty = all values
@@ -110,6 +97,16 @@ struct Scenario {
   int threads = 0;               ///< 0 = OpenMP's default
   /// Every value the run can report: globals, then each sensor's ("cup.bulk_density").
   std::vector<std::string> value_names() const;
+  /// The same with their dimensions, as each sensor kind declares them.
+  std::vector<ValueColumn> value_columns() const;
+  /// The dimension of one of its values ("cup.bulk_density" is a density, "gate.angle" an
+  /// angle), or of a stage's start, end or duration (a time); dimensionless if it has none of
+  /// that name.
+  units::Dimension value_dimension(const std::string& value_name) const;
+  /// A run's values are SI except angles (heap and part), which are in degrees as
+  /// timeseries.csv shows them: these convert a value between the run's unit and SI (radians).
+  double value_to_si(const std::string& value_name, double value) const;
+  double value_from_si(const std::string& value_name, double value_si) const;
 };
 
 /// Reads and validates a scenario. Throws InputError (file, line, key) for unknown keys,
@@ -117,25 +114,18 @@ struct Scenario {
 /// range, unknown names, and geometry, factories or sensors that do not fit in the domain.
 Scenario read_scenario(ScenarioDocument document);
 
-/// The global values every run reports.
+/// The global values every run reports, with their dimensions.
+const std::vector<ValueColumn>& global_value_columns();
 const std::vector<std::string>& global_value_names();
-
-/// The dimension of a value by its name ("cup.bulk_density" is a density, "gate.angle" an
-/// angle).
-units::Dimension value_dimension(const std::string& value_name);
-
-/// A run's values are SI except angles (heap and part), which are in degrees as timeseries.csv
-/// shows them: these convert a value between the run's unit and SI (radians).
-double value_to_si(const std::string& value_name, double value);
-double value_from_si(const std::string& value_name, double value_si);
 
 /// The unit a result is written in: angles in degrees, everything else in SI.
 std::string_view result_unit(units::Dimension d);
 double result_value(const units::Quantity& q);
 
 /// Evaluates a result's expression; `value` gives a stage's value by its name
-/// ("fill.cup.mass", "fill.duration"), or throws InputError for an unknown one.
-units::Quantity evaluate_result(const ResultSpec& result,
+/// ("fill.cup.mass", "fill.duration"), or throws InputError for an unknown one; the scenario
+/// gives the values' dimensions.
+units::Quantity evaluate_result(const ResultSpec& result, const Scenario& scenario,
                                 const std::function<double(const std::string& stage, const std::string& value)>& value);
 
 }  // namespace bushel

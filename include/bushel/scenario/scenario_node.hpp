@@ -72,6 +72,7 @@ class ScenarioNode {
   Vec3 vector(units::Dimension d) const;
   /// One of `choices` (an error listing them, with a did-you-mean).
   std::string choice(std::initializer_list<std::string_view> choices) const;
+  std::string choice(const std::vector<std::string>& choices) const;
 
   // --- shorthands on maps: the value under `key`, or `fallback` where the key is absent ---
   double quantity(const std::string& key, units::Dimension d) const { return at(key).quantity(d); }

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "bushel/scenario/run_summary.hpp"
 #include "bushel/scenario/scenario.hpp"
 
 namespace bushel {
@@ -34,21 +35,6 @@ struct RunOptions {
   double interrupt_at = std::numeric_limits<double>::infinity();
 };
 
-struct StageReport {
-  std::string name;
-  std::string ended_by;           ///< time, kinetic_energy, factories_done, servo_held, stable or max_time
-  double start = 0.0, end = 0.0;  ///< [s]
-  std::uint64_t steps = 0;
-  std::vector<std::pair<std::string, double>> values;  ///< every value at the stage's end
-  /// Each heap sensor's surface at the stage's end: its name, ring radii [m], heights [m]
-  /// (NaN where a ring holds no grain).
-  struct Profile {
-    std::string sensor;
-    std::vector<double> radius, height;
-  };
-  std::vector<Profile> profiles;
-};
-
 struct RunReport {
   bool interrupted = false;   ///< stopped by Ctrl-C (or interrupt_at): checkpoint.bin holds the rest
   bool at_stop_time = false;  ///< stopped because it reached RunOptions::interrupt_at, as asked
@@ -61,6 +47,9 @@ struct RunReport {
   double particle_steps = 0.0;  ///< sum over steps of the particle count
   std::vector<std::string> warnings;
   std::vector<std::string> engines;  ///< the builds that ran it, oldest first (build_description())
+  /// What summary.json holds (its warnings: these, then the results'); its directory and file
+  /// are RunOptions::out_dir and the summary.json there.
+  RunSummary summary;
 };
 
 /// Runs the scenario and writes its outputs; returns what summary.json holds.

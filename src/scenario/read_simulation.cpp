@@ -1,0 +1,129 @@
+// simulation: its settings, guards, domain and time step.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "bushel/contact/contact_model.hpp"
+#include "bushel/contact/time_scales.hpp"
+#include "scenario_reading.hpp"
+
+namespace bushel::scenario_reading {
+namespace {
+
+namespace dim = units::dim;
+
+// The strongest gravity a scenario may set [m/s2]: 100 times the Earth's, far beyond any
+// centrifuge test of grain; more is a typo (a unit or an exponent).
+constexpr double max_gravity = 1000.0;
+
+// simulation: guards: each limit a fraction or quantity in its range (run_guards.hpp).
+RunGuards read_guards(const ScenarioNode& g) {
+  g.allow_only({"max_overlap", "overlap_time", "max_speed", "max_travel", "max_lost", "max_steps"});
+  RunGuards r;
+  auto fraction = [&](const char* key, double fallback, double hi) {
+    if (!g.has(key)) return fallback;
+    const double v = g.at(key).quantity(dim::dimensionless);
+    if (!(v > 0.0 && v <= hi)) throw g.at(key).error(fmt::format("expected a fraction in (0, {:g}], e.g. 50%", hi));
+    return v;
+  };
+  r.max_overlap = fraction("max_overlap", r.max_overlap, 1.0);
+  r.max_travel = fraction("max_travel", r.max_travel, 1.0);
+  r.max_lost = fraction("max_lost", r.max_lost, 1.0);
+  r.overlap_time = g.positive_or("overlap_time", dim::time, r.overlap_time);
+  r.max_speed = g.positive_or("max_speed", dim::velocity, r.max_speed);
+  if (g.has("max_steps")) r.max_steps = static_cast<double>(g.at("max_steps").integer(1, 1L << 50));
+  return r;
+}
+
+// The engine's settings: gravity, integrator, rolling model, skin, tangential damping limit.
+void read_engine_settings(const ScenarioNode& sim, SimulationSettings& st) {
+  st.gravity = sim.vector_or("gravity", dim::acceleration, {0, 0, -9.81});
+  if (norm(st.gravity) > max_gravity) {
+    throw sim.at("gravity").error(
+        fmt::format("expected at most {:g} m/s2 (about 100 g), got {:.4g} m/s2", max_gravity, norm(st.gravity)));
+  }
+  if (sim.has("integrator")) {
+    st.integrator = sim.at("integrator").choice({"symplectic_euler", "velocity_verlet"}) == "velocity_verlet"
+                        ? Integrator::velocity_verlet
+                        : Integrator::symplectic_euler;
+  }
+  if (sim.has("rolling")) st.rolling = sim.at("rolling").choice(rolling_model_names());
+  st.skin = sim.positive_or("skin", dim::length, 0.0);
+  if (const auto limit = sim.find("tangential_damping_limit")) {  // a fraction, or off
+    if (limit->text() == "off") {
+      st.tangential_damping_limit = std::numeric_limits<double>::infinity();
+    } else {
+      st.tangential_damping_limit = limit->number();
+      if (!(st.tangential_damping_limit > 0.0 && st.tangential_damping_limit <= 1.0)) {
+        throw limit->error("expected a fraction in (0, 1] of the relative tangential velocity per step, or off");
+      }
+    }
+  }
+}
+
+// simulation.domain: a box from min to max.
+Region read_domain(const ScenarioNode& d) {
+  d.allow_only({"min", "max"});
+  const Vec3 lo = d.at("min").vector(dim::length), hi = d.at("max").vector(dim::length);
+  if (!(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z)) throw d.at("max").error("expected max above min on every axis");
+  return Region::box(0.5 * (lo + hi), hi - lo);
+}
+
+}  // namespace
+
+void read_simulation(const ScenarioNode& sim, Scenario& sc, ReadContext& cx) {
+  sim.allow_only({"time_step", "gravity", "integrator", "rolling", "skin", "domain", "seed", "threads",
+                  "check_interval", "tangential_damping_limit", "guards"});
+  read_engine_settings(sim, sc.settings);
+  cx.seed = sim.has("seed") ? static_cast<std::uint64_t>(sim.at("seed").integer(0, 1L << 40)) : 1;
+  sc.threads = sim.has("threads") ? static_cast<int>(sim.at("threads").integer(0, 1024)) : 0;
+  sc.check_interval = sim.positive_or("check_interval", dim::time, 1e-3);
+  if (const auto g = sim.find("guards")) sc.guards = read_guards(*g);
+  sc.domain = read_domain(sim.at("domain"));
+}
+
+double read_time_step(const ScenarioNode& parent, double rayleigh_step, double& fraction) {
+  const ScenarioNode ts = parent.at("time_step");
+  const std::string text = ts.text();
+  const std::string suffix = "rayleigh";
+  if (text.size() > suffix.size() && text.ends_with(suffix)) {
+    try {
+      fraction = units::parse(text.substr(0, text.size() - suffix.size()), dim::dimensionless);
+    } catch (const InputError& e) {
+      throw ts.error(e.problem());
+    }
+    if (!(fraction > 0.0 && fraction <= 1.0)) {
+      throw ts.error("expected a fraction of the Rayleigh step in (0, 1], e.g. '0.2 rayleigh' or '20% rayleigh'");
+    }
+    return fraction * rayleigh_step;
+  }
+  fraction = 0.0;
+  double dt = 0.0;
+  try {
+    dt = parent.positive("time_step", dim::time);
+  } catch (const InputError& e) {  // (say the other form too: "0.2 rayleighs" is a typo of it)
+    throw ts.error(e.problem() + "; or a fraction of the smallest element's Rayleigh step, e.g. '0.2 rayleigh'");
+  }
+  if (dt > rayleigh_step) {
+    throw ts.error(fmt::format(
+        "a time step of {:.4g} us is above the Rayleigh step of the smallest element ({:.4g} us): the contacts "
+        "would be unstable",
+        dt * 1e6, rayleigh_step * 1e6));
+  }
+  return dt;
+}
+
+void read_simulation_time_step(const ScenarioNode& sim, Scenario& sc) {
+  sc.rayleigh_step = INFINITY;
+  for (const auto& t : sc.types) {
+    sc.rayleigh_step =
+        std::min(sc.rayleigh_step, rayleigh_time_step(t.shape.min_sphere_radius(), t.material.density,
+                                                      t.material.shear_modulus, t.material.poisson_ratio));
+  }
+  sc.settings.dt = read_time_step(sim, sc.rayleigh_step, sc.time_step_fraction);
+}
+
+}  // namespace bushel::scenario_reading
