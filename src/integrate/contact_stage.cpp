@@ -326,8 +326,8 @@ template <class Rolling>
 // with this normal takes: the closest stored normal within 60 degrees, else a free one, else
 // any unused (cleared). Keyed by the normal, a contact sliding across the triangles of one
 // part keeps its history.
-int history_slot(double* slots, std::size_t slot_size, const Vec3& normal,
-                 const std::array<bool, max_part_touches>& used) {
+[[gnu::always_inline]] inline int history_slot(double* slots, std::size_t slot_size, const Vec3& normal,
+                                               const std::array<bool, max_part_touches>& used) {
   int slot = -1;
   double best = 0.5;
   for (int j = 0; j < max_part_touches; ++j) {
@@ -346,7 +346,7 @@ int history_slot(double* slots, std::size_t slot_size, const Vec3& normal,
 // A part candidate's contacts (up to max_part_touches) into the batch with side i = the
 // sphere. Returns the largest overlap ratio, or -1 if nothing touches.
 template <class Rolling>
-double visit_part(const ContactViews& v, std::size_t cw, PartLanes& lanes) {
+[[gnu::always_inline]] inline double visit_part(const ContactViews& v, std::size_t cw, PartLanes& lanes) {
   const std::uint32_t s = v.sphere_of_candidate[cw], w = v.part_of_candidate[cw];
   const std::uint32_t b = v.owner[s];
   const PartGeometry& pg = v.geometry[w];
@@ -404,7 +404,7 @@ double visit_part(const ContactViews& v, std::size_t cw, PartLanes& lanes) {
 // element's own sums (after its pairs), the part candidate's reaction takes the rest (a
 // candidate may have several contacts).
 template <class Rolling>
-void finish_parts(const ContactViews& v, PartLanes& lanes) {
+[[gnu::always_inline]] inline void finish_parts(const ContactViews& v, PartLanes& lanes) {
   ContactBatch& b = lanes.batch;
   solve(b, v.dt, v.damping_rate);
   for (int k = 0; k < b.size; ++k) {

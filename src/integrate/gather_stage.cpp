@@ -54,10 +54,11 @@ void gather(ParticleSystem& ps, ContactSums& sums, const NeighborList& neighbors
   // which the contact stage kept (direct) or which is summed here from the pair slots in the
   // same order; the accumulators are zeroed for the next step.
   const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
+  const Vec3 g = gravity;  // (a copy: through the reference it is reloaded after every store)
 #pragma omp parallel for schedule(static) if (nb > parallel_threshold)
   for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
     const auto b = static_cast<std::size_t>(sb);
-    Vec3 f = ps.mass[b] * gravity, t;
+    Vec3 f = ps.mass[b] * g, t;
     double cdt = 0.0;
     for (std::uint32_t s = ps.first_sphere[b]; s < ps.first_sphere[b] + ps.sphere_count[b]; ++s) {
       f += sums.element_force[s];
