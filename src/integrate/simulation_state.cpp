@@ -1,6 +1,6 @@
-// Simulation::save_state and load_state: the whole dynamic state, for a checkpoint. The
-// layout is the engine section of checkpoint format 3 (scenario_run.cpp); a change to it is a
-// new format.
+// Simulation::save_state and load_state: the whole dynamic state, for a checkpoint, as the
+// engine's named sections (binary_archive.hpp). A change to a section's layout is a new
+// version of that section.
 
 #include <type_traits>
 
@@ -104,41 +104,60 @@ void get_member(io::BinaryReader& in, T& m) {
 
 }  // namespace
 
+// The engine's sections of a checkpoint and their versions: each is written and read here by
+// the part of the World it holds.
+constexpr std::uint32_t parts_version = 1, particles_version = 1, neighbors_version = 1, contacts_version = 1,
+                        diagnostics_version = 1;
+
 void Simulation::save_state(io::BinaryWriter& out) const {
-  save_parts(out, *w_);
-  w_->particles.save(out);
-  w_->neighbors.save(out);
-  each_saved_member(*w_, [&](const auto& m) { out.put(m); });
+  const engine::World& w = *w_;
+  io::BinaryWriter parts, particles, neighbors, contacts, diagnostics;
+  save_parts(parts, w);
+  w.particles.save(particles);
+  w.neighbors.save(neighbors);
+  each_saved_member(w, [&](const auto& m) { contacts.put(m); });
+  diagnostics.put(w.diagnostics.pair_force_sum);
+  diagnostics.put(w.diagnostics.part_force_sum);
+  diagnostics.put(static_cast<std::uint64_t>(w.diagnostics.part_contacts));
+  diagnostics.put(w.skin.last_build_step);
+  out.put_section("engine.parts", parts_version, parts);
+  out.put_section("engine.particles", particles_version, particles);
+  out.put_section("engine.neighbors", neighbors_version, neighbors);
+  out.put_section("engine.contacts", contacts_version, contacts);
+  out.put_section("engine.diagnostics", diagnostics_version, diagnostics);
 }
 
-void Simulation::load_state(io::BinaryReader& in) {
+void Simulation::load_state(const io::SectionTable& in) {
   engine::World& w = *w_;
-  load_parts(in, w);
-  w.particles.load(in);
+  auto parts = in.get("engine.parts", parts_version);
+  load_parts(parts.body, w);
+  io::SectionTable::expect_end(parts.body, "engine.parts");
+  auto particles = in.get("engine.particles", particles_version);
+  w.particles.load(particles.body);
+  io::SectionTable::expect_end(particles.body, "engine.particles");
   // The derived tables (pair coefficients) and the neighbour list's configuration, then the
   // saved list and every per-pair and per-element array over them.
   const std::vector<Vec3> placed = w.particles.sphere_position;
   absorb_changes();
   w.particles.sphere_position = placed;
-  w.neighbors.load(in);
-  each_saved_member(w, [&](auto& m) { get_member(in, m); });
-  w.skin.last_build_step = w.steps;  // (load_skin_clock reads the saved one, where there is one)
+  auto neighbors = in.get("engine.neighbors", neighbors_version);
+  w.neighbors.load(neighbors.body);
+  io::SectionTable::expect_end(neighbors.body, "engine.neighbors");
+  auto contacts = in.get("engine.contacts", contacts_version);
+  each_saved_member(w, [&](auto& m) { get_member(contacts.body, m); });
+  io::SectionTable::expect_end(contacts.body, "engine.contacts");
+  // Without its diagnostics a state still continues (the unbalanced force ratio is unknown
+  // until the next step, the adaptive skin counts from the checkpoint's step).
+  w.diagnostics.pair_force_sum = w.diagnostics.part_force_sum = 0.0;
+  w.diagnostics.part_contacts = 0;
+  w.skin.last_build_step = w.steps;
+  if (auto d = in.find("engine.diagnostics", diagnostics_version)) {
+    d->body.get(w.diagnostics.pair_force_sum);
+    d->body.get(w.diagnostics.part_force_sum);
+    w.diagnostics.part_contacts = static_cast<std::size_t>(d->body.get<std::uint64_t>());
+    d->body.get(w.skin.last_build_step);
+    io::SectionTable::expect_end(d->body, "engine.diagnostics");
+  }
 }
-
-void Simulation::save_force_sums(io::BinaryWriter& out) const {
-  out.put(w_->diagnostics.pair_force_sum);
-  out.put(w_->diagnostics.part_force_sum);
-  out.put(static_cast<std::uint64_t>(w_->diagnostics.part_contacts));
-}
-
-void Simulation::load_force_sums(io::BinaryReader& in) {
-  in.get(w_->diagnostics.pair_force_sum);
-  in.get(w_->diagnostics.part_force_sum);
-  w_->diagnostics.part_contacts = static_cast<std::size_t>(in.get<std::uint64_t>());
-}
-
-void Simulation::save_skin_clock(io::BinaryWriter& out) const { out.put(w_->skin.last_build_step); }
-
-void Simulation::load_skin_clock(io::BinaryReader& in) { in.get(w_->skin.last_build_step); }
 
 }  // namespace bushel

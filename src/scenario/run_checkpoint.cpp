@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -89,8 +90,12 @@ void put_scenario(io::BinaryWriter& scenario, const ScenarioDocument& doc) {
   for (const auto& [k, v] : doc.parameters) scenario.put(k), scenario.put(v);
 }
 
-void put_run(io::BinaryWriter& run, const RunState& st, const Position& pos, const io::FrameWriter* frames,
-             double wall) {
+// The run's sections and their versions: where the run stands (run), and each component's
+// own: factories, sinks, flows, frames and guards.
+constexpr std::uint32_t build_version = 1, scenario_version = 1, run_version = 1, factories_version = 1,
+                        sinks_version = 1, flows_version = 1, frames_version = 1, guards_version = 1;
+
+void put_run(io::BinaryWriter& run, const Position& pos, double wall) {
   each_checkpointed(pos, [&](const auto& m) { run.put(m); });
   run.put(wall);
   run.put(pos.series_bytes);
@@ -98,77 +103,118 @@ void put_run(io::BinaryWriter& run, const RunState& st, const Position& pos, con
   for (const auto& r : pos.done) put(run, r);
   run.put(static_cast<std::uint64_t>(pos.warnings.size()));
   for (const auto& w : pos.warnings) run.put(w);
-  run.put(st.factory_on);
-  for (const auto& f : st.factories) f.save(run);
-  for (const Sink* k : sinks_and_lost(st)) each_checkpointed(*k, [&](const auto& m) { run.put(m); });
-  for (const auto& f : st.flows) f.save(run);
-  if (frames) frames->save(run);
   run.put(pos.peak_overlap);
   run.put(static_cast<std::uint64_t>(pos.deep_overlaps.size()));
   for (const auto& [name, peak] : pos.deep_overlaps) run.put(name), run.put(peak);
   run.put(static_cast<std::uint64_t>(pos.engines.size()));
   for (const auto& e : pos.engines) run.put(e);
-  pos.guards.save(run);
   run.put(pos.failed);
 }
 
-void get_run(io::BinaryReader& in, RunState& st, Position& pos, io::FrameWriter* frames) {
+void get_run(io::BinaryReader& in, const RunState& st, Position& pos) {
   each_checkpointed(pos, [&](auto& m) { in.get(m); });
+  if (pos.stage > st.sc.stages.size()) in.damaged("it does not match its scenario");
   in.get(pos.wall_before);
   in.get(pos.series_bytes);
   const auto n_done = in.get_count(8);
   for (std::uint64_t k = 0; k < n_done; ++k) pos.done.push_back(get_report(in));
   const auto n_warn = in.get_count(8);
   for (std::uint64_t k = 0; k < n_warn; ++k) pos.warnings.push_back(in.get<std::string>());
-  in.get(st.factory_on);
-  if (st.factory_on.size() != st.factories.size() || pos.stage > st.sc.stages.size()) {
-    in.damaged("it does not match its scenario");
-  }
-  for (auto& f : st.factories) f.load(in);
-  for (Sink* k : sinks_and_lost(st)) each_checkpointed(*k, [&](auto& m) { in.get(m); });
-  for (auto& f : st.flows) f.load(in);
-  if (frames) frames->load(in);
   in.get(pos.peak_overlap);
   pos.deep_overlaps.resize(in.get_count(16));
   for (auto& [name, peak] : pos.deep_overlaps) in.get(name), in.get(peak);
   pos.engines.resize(in.get_count(8));
   for (auto& e : pos.engines) in.get(e);
-  pos.guards.load(in);
   in.get(pos.failed);
-  if (!in.done()) in.damaged("unexpected data at the end of section 'run'");
+}
+
+void put_components(io::BinaryWriter& out, const RunState& st, const Position& pos, const io::FrameWriter* frames) {
+  io::BinaryWriter factories, sinks, flows, frame_count, guards;
+  factories.put(st.factory_on);
+  for (const auto& f : st.factories) f.save(factories);
+  for (const Sink* k : sinks_and_lost(st)) each_checkpointed(*k, [&](const auto& m) { sinks.put(m); });
+  for (const auto& f : st.flows) f.save(flows);
+  pos.guards.save(guards);
+  out.put_section("factories", factories_version, factories);
+  out.put_section("sinks", sinks_version, sinks);
+  out.put_section("flows", flows_version, flows);
+  if (frames) {
+    frames->save(frame_count);
+    out.put_section("frames", frames_version, frame_count);
+  }
+  out.put_section("guards", guards_version, guards);
+}
+
+// Reads section `name` (required, or absent and skipped when `required` is false) with `read`.
+template <class F>
+void read_section(const io::SectionTable& t, std::string_view name, std::uint32_t version, bool required, F&& read) {
+  std::optional<io::SectionTable::Section> s = required ? std::optional(t.get(name, version)) : t.find(name, version);
+  if (!s) return;
+  read(s->body);
+  io::SectionTable::expect_end(s->body, name);
+}
+
+void get_components(const io::SectionTable& t, RunState& st, Position& pos, io::FrameWriter* frames) {
+  read_section(t, "factories", factories_version, true, [&](io::BinaryReader& in) {
+    in.get(st.factory_on);
+    if (st.factory_on.size() != st.factories.size()) in.damaged("it does not match its scenario");
+    for (auto& f : st.factories) f.load(in);
+  });
+  read_section(t, "sinks", sinks_version, true, [&](io::BinaryReader& in) {
+    for (Sink* k : sinks_and_lost(st)) each_checkpointed(*k, [&](auto& m) { in.get(m); });
+  });
+  read_section(t, "flows", flows_version, true, [&](io::BinaryReader& in) {
+    for (auto& f : st.flows) f.load(in);
+  });
+  // Without these a run continues with their defaults: frames numbered afresh, guard clocks
+  // that start now.
+  if (frames) read_section(t, "frames", frames_version, false, [&](io::BinaryReader& in) { frames->load(in); });
+  read_section(t, "guards", guards_version, false, [&](io::BinaryReader& in) { pos.guards.load(in); });
+}
+
+// The build named in another format's first section, "build" (formats 3 and 4: its name, in
+// format 4 a version, its length and checksum, then the build's name), or "an unknown build".
+std::string writer_of(const io::BinaryReader& at) {
+  for (const bool versioned : {true, false}) {
+    io::BinaryReader in = at;  // (a copy: each try reads from the same place)
+    try {
+      if (in.get<std::string>() != "build") break;
+      if (versioned) (void)in.get<std::uint32_t>();
+      const auto length = in.get<std::uint64_t>();
+      const auto sum = in.get<std::uint64_t>();
+      const std::string_view body = in.take(length);
+      if (io::checksum(body) == sum) return io::BinaryReader(body, "").get<std::string>();
+    } catch (const InputError&) {
+    }
+  }
+  return "an unknown build";
 }
 
 }  // namespace
 
 void save_checkpoint(const std::string& out_dir, const RunState& st, const Position& pos, const io::FrameWriter* frames,
                      double wall) {
-  io::BinaryWriter out, build, scenario, run, engine;
+  io::BinaryWriter out, build, scenario, run;
   out.put(checkpoint_magic(Simulation::checkpoint_format));
   build.put(build_description());
-  out.put_section("build", build);
+  out.put_section("build", build_version, build);
   put_scenario(scenario, st.sc.document);
-  put_run(run, st, pos, frames, wall);
-  st.sim.save_state(engine);
-  st.sim.save_force_sums(engine);
-  st.sim.save_skin_clock(engine);
-  out.put_section("scenario", scenario);
-  out.put_section("run", run);
-  out.put_section("engine", engine);
+  out.put_section("scenario", scenario_version, scenario);
+  put_run(run, pos, wall);
+  out.put_section("run", run_version, run);
+  put_components(out, st, pos, frames);
+  st.sim.save_state(out);
   io::write_file_atomically((std::filesystem::path(out_dir) / "checkpoint.bin").string(), out.bytes());
 }
 
-void load_checkpoint(io::BinaryReader& file, RunState& st, Position& pos, io::FrameWriter* frames) {
-  io::BinaryReader in = file.section("run");
-  io::BinaryReader engine = file.section("engine");
-  if (!file.done()) file.damaged("data after its last section");
-  get_run(in, st, pos, frames);
-  st.sim.load_state(engine);
-  st.sim.load_force_sums(engine);
-  st.sim.load_skin_clock(engine);
-  if (!engine.done()) engine.damaged("unexpected data at the end of section 'engine'");
+void load_checkpoint(const io::SectionTable& t, RunState& st, Position& pos, io::FrameWriter* frames) {
+  read_section(t, "run", run_version, true, [&](io::BinaryReader& in) { get_run(in, st, pos); });
+  get_components(t, st, pos, frames);
+  st.sim.load_state(t);
 }
 
-ScenarioDocument read_checkpoint_head(io::BinaryReader& in, const std::string& path) {
+ScenarioDocument read_checkpoint_head(io::BinaryReader& in, const std::string& path,
+                                      std::optional<io::SectionTable>& sections) {
   const std::string magic = checkpoint_magic(Simulation::checkpoint_format);
   std::string found;
   try {
@@ -176,17 +222,19 @@ ScenarioDocument read_checkpoint_head(io::BinaryReader& in, const std::string& p
   } catch (const InputError&) {  // (too short for even the magic line)
   }
   if (!found.starts_with("bushel checkpoint ")) throw InputError("not a bushel checkpoint").at(path);
-  const auto writer = in.section("build").get<std::string>();
   if (found != magic) {
+    const std::string writer = writer_of(in);
     throw InputError(fmt::format("a checkpoint of format {}, written by bushel {}; this build ({}) reads format {}: "
                                  "continue it with the build that wrote it, or start the run again",
                                  found.substr(magic.size() - 1), writer, build_description(),
                                  Simulation::checkpoint_format))
         .at(path);
   }
+  sections.emplace(in);
+  (void)sections->get("build", build_version);
   // The scenario as it was resolved (overrides applied, parameters substituted), read again
   // as if from its file, so that relative paths (meshes, templates) still resolve.
-  io::BinaryReader head = in.section("scenario");
+  io::BinaryReader head = sections->get("scenario", scenario_version).body;
   const auto file = head.get<std::string>();
   const auto text = head.get<std::string>();
   std::vector<Override> overrides(head.get_count(16));
@@ -197,7 +245,7 @@ ScenarioDocument read_checkpoint_head(io::BinaryReader& in, const std::string& p
     auto name = head.get<std::string>();
     parameters[name] = head.get<std::string>();
   }
-  if (!head.done()) head.damaged("unexpected data at the end of section 'scenario'");
+  io::SectionTable::expect_end(head, "scenario");
   ScenarioDocument doc = parse_scenario_document(text, file);
   doc.overrides = std::move(overrides);
   doc.parameters = std::move(parameters);

@@ -62,7 +62,7 @@ class Runner {
   Runner(const Scenario& sc, const RunOptions& o) : sc_(sc), o_(o), st_(sc) {}
 
   // A fresh run; or, with `in`, the rest of the checkpointed run in it.
-  RunReport run(io::BinaryReader* in) {
+  RunReport run(const io::SectionTable* in) {
     if (sc_.outputs.frame_interval > 0.0) frames_.emplace((std::filesystem::path(o_.out_dir) / "frames").string());
     if (in) {
       load_checkpoint(*in, st_, pos_, frames());
@@ -323,10 +323,11 @@ RunReport resume_scenario(const RunOptions& options) {
   if (!std::filesystem::exists(path, ec)) throw InputError("no checkpoint to continue from").at(path);
   const std::string bytes = io::read_text_file(path);
   io::BinaryReader in(bytes, path);
-  const Scenario sc = read_scenario(read_checkpoint_head(in, path));
+  std::optional<io::SectionTable> sections;
+  const Scenario sc = read_scenario(read_checkpoint_head(in, path, sections));
   prepare_output(options, sc.threads);
   Runner runner(sc, options);
-  return runner.run(&in);
+  return runner.run(&*sections);
 }
 
 }  // namespace bushel

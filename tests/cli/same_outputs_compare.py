@@ -32,11 +32,14 @@ def read_string(b, at):
 
 
 def sections(b):
-    """The magic line, then {name: body} of a checkpoint."""
+    """The magic line, then {name: body} of a checkpoint (format 3: each section a name, a
+    length, a checksum and its bytes; format 4: a version after the name)."""
     magic, at = read_string(b, 0)
+    versioned = not magic.endswith(b" 3")
     out = {}
     while at < len(b):
         name, at = read_string(b, at)
+        at += 4 if versioned else 0
         length, _sum = struct.unpack_from("<QQ", b, at)
         at += 16
         out[name.decode()] = b[at : at + length]
@@ -54,7 +57,8 @@ def run_wall_offset(run):
 
 
 def mask_part_padding(engine):
-    """Section "engine" with the padding bytes of its parts' records zeroed: it begins with
+    """Section "engine.parts" ("engine" in format 3) with the padding bytes of its parts'
+    records zeroed: it begins with
     Simulation::save_state's parts, each a Pose (56 bytes), enabled (1), its MotionSegments
     (a count, then 152 bytes each: Kind, 4 bytes of padding, doubles), has_servo (1), a
     ServoSpec (88), force, torque (24 each), a Twist (48), a ServoState (measured_force,
@@ -79,7 +83,8 @@ def masked_checkpoint(path):
     """Its magic line and sections with the wall clock, the build names and the padding masked."""
     with open(path, "rb") as f:
         magic, s = sections(f.read())
-    s["engine"] = mask_part_padding(s["engine"])
+    parts = "engine" if "engine" in s else "engine.parts"  # (formats 3 and 4)
+    s[parts] = mask_part_padding(s[parts])
     build, _ = read_string(s["build"], 0)
     run = bytearray(s["run"])
     w = run_wall_offset(run)

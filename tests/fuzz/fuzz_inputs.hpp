@@ -178,7 +178,7 @@ outputs:
 };
 
 /// Makes every section checksum of a checkpoint (binary_archive.hpp: a length-prefixed magic
-/// string, then sections of name, length, XXH3 checksum and body) match its body again, as far
+/// string, then sections of name, version, length, XXH3 checksum and body) match its body again, as far
 /// as the layout can be followed; returns false if nothing could be resealed. The checkpoint
 /// target's mutator applies it to half of its mutants, so that the fuzzer also reaches the
 /// readers behind the checksums (a file damaged in a way no checksum shows).
@@ -196,7 +196,7 @@ inline bool reseal_checkpoint(std::string& bytes) {
   while (at < bytes.size()) {
     std::uint64_t name = 0, length = 0;
     if (!u64_at(at, name) || name > bytes.size() - at - 8) break;
-    at += 8 + name;
+    at += 8 + name + sizeof(std::uint32_t);  // (the name, the version)
     if (!u64_at(at, length) || !u64_at(at + 8, n)) break;
     at += 16;
     if (length > bytes.size() - at) break;

@@ -82,21 +82,16 @@ class Simulation {
   void remove_bodies(std::span<const std::size_t> bodies);
 
   /// The whole dynamic state (particles, parts' poses, motions and servos, contact lists and
-  /// histories, time), for a checkpoint. `load_state` into a simulation built with the same
-  /// settings, types and parts continues bit for bit as the saved one would have.
+  /// histories, time, the last step's force sums), for a checkpoint, as the sections
+  /// engine.parts, engine.particles, engine.neighbors, engine.contacts and engine.diagnostics
+  /// (each with its version). `load_state` into a simulation built with the same settings,
+  /// types and parts continues bit for bit as the saved one would have; without
+  /// engine.diagnostics it continues from zero force sums.
   void save_state(io::BinaryWriter& out) const;
-  /// The checkpoint format that a run writes and reads (scenario_run.cpp): 3, sections with
-  /// checksums. A checkpoint of another format is refused.
-  static constexpr int checkpoint_format = 3;
-  void load_state(io::BinaryReader& in);
-  /// The last step's contact force sums (of unbalanced_force_ratio), which save_state leaves
-  /// out (a checkpoint stores them after it).
-  void save_force_sums(io::BinaryWriter& out) const;
-  void load_force_sums(io::BinaryReader& in);
-  /// The step of the last neighbour-list build, which the adaptive skin measures from (the
-  /// skin itself is in the list), stored after the force sums.
-  void save_skin_clock(io::BinaryWriter& out) const;
-  void load_skin_clock(io::BinaryReader& in);
+  void load_state(const io::SectionTable& in);
+  /// The checkpoint format that a run writes and reads (scenario_run.cpp): 4, named and
+  /// versioned sections with checksums. A checkpoint of another format is refused.
+  static constexpr int checkpoint_format = 4;
 
   /// Advances `n` steps.
   void step(std::uint64_t n = 1);

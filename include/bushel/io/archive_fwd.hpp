@@ -5,4 +5,5 @@
 namespace bushel::io {
 class BinaryWriter;
 class BinaryReader;
+class SectionTable;
 }  // namespace bushel::io

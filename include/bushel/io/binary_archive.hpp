@@ -2,12 +2,14 @@
 // A plain binary archive for checkpoints: values and vectors of trivially copyable types and
 // strings, written in the machine's byte order, read back with every length checked against
 // what is left (a truncated or foreign file is an InputError, never a crash). A checkpoint is
-// only read back on the machine kind that wrote it. Its parts are sections: a name, a length
-// and an XXH3-64 checksum of the bytes, so that a flipped bit or a cut file is found before
-// any of it is read, not restarted into a different run.
+// only read back on the machine kind that wrote it. Its parts are named, versioned sections,
+// each written and read by the component it belongs to: a name, a version, a length and an
+// XXH3-64 checksum of the bytes, so that a flipped bit or a cut file is found before any of it
+// is read, not restarted into a different run. SectionTable finds them by name, in any order.
 
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -39,8 +41,8 @@ class BinaryWriter {
     put(static_cast<std::uint64_t>(s.size()));
     bytes_.append(s);
   }
-  /// Appends `body` as the section `name` with its length and checksum.
-  void put_section(std::string_view name, const BinaryWriter& body);
+  /// Appends `body` as the section `name` in its `version`, with its length and checksum.
+  void put_section(std::string_view name, std::uint32_t version, const BinaryWriter& body);
   const std::string& bytes() const { return bytes_; }
 
  private:
@@ -95,12 +97,17 @@ class BinaryReader {
     return v;
   }
   bool done() const { return at_ == bytes_.size(); }
+  /// The next n bytes, unread (checked against what is left), then skipped.
+  std::string_view take(std::uint64_t n) {
+    if (n > bytes_.size() - at_) damaged("it ends early (cut off?)");
+    const std::string_view b = bytes_.substr(at_, n);
+    at_ += n;
+    return b;
+  }
+  const std::string& source() const { return source_; }
   /// A count of items that take at least `bytes_each` bytes each, checked against what is
   /// left before anything is sized by it.
   std::uint64_t get_count(std::size_t bytes_each) { return count(bytes_each); }
-  /// The next section, which must be `name`, its checksum verified; the reader over its bytes
-  /// borrows this reader's bytes.
-  BinaryReader section(std::string_view name);
   /// Throws the InputError of damaged data, naming the source and `what`.
   [[noreturn]] void damaged(const std::string& what) const;
 
@@ -117,6 +124,36 @@ class BinaryReader {
   std::string_view bytes_;
   std::string source_;
   std::size_t at_ = 0;
+};
+
+/// The sections that follow in a reader, by name (BinaryWriter::put_section), every checksum
+/// verified when the table is made. A component asks for its section and reads it with the
+/// version it finds; a section that is absent takes the component's defaults where it may
+/// (find), and is damage where it must be there (get).
+class SectionTable {
+ public:
+  struct Section {
+    std::uint32_t version = 0;
+    BinaryReader body;  ///< over the section's bytes (borrowed from the table's reader)
+  };
+  /// Reads every section to the end of `in`; a section twice, a cut one or a checksum that
+  /// does not match is damage.
+  explicit SectionTable(BinaryReader& in);
+  /// Section `name`, if present; damage if its version is newer than `newest` (a later build's).
+  std::optional<Section> find(std::string_view name, std::uint32_t newest) const;
+  /// Section `name`; damage if it is absent.
+  Section get(std::string_view name, std::uint32_t newest) const;
+  /// Damage unless every byte of the section was read.
+  static void expect_end(const BinaryReader& body, std::string_view name);
+
+ private:
+  struct Entry {
+    std::string name;
+    std::uint32_t version;
+    std::string_view bytes;
+  };
+  const BinaryReader* in_;
+  std::vector<Entry> entries_;
 };
 
 }  // namespace bushel::io

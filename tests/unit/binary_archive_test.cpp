@@ -1,0 +1,58 @@
+// Checkpoint sections (binary_archive.hpp): found by name in any order, with their versions;
+// absent, newer, repeated or damaged ones are told apart.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "bushel/core/input_error.hpp"
+#include "bushel/io/binary_archive.hpp"
+
+namespace bushel::io {
+namespace {
+
+std::string two_sections() {
+  BinaryWriter out, a, b;
+  a.put(std::uint64_t{42});
+  b.put(std::string("bee"));
+  out.put_section("a", 1, a);
+  out.put_section("b", 2, b);
+  return out.bytes();
+}
+
+std::string damage_of(const std::string& bytes, std::string_view name, std::uint32_t newest) {
+  try {
+    BinaryReader in(bytes, "f");
+    (void)SectionTable(in).get(name, newest);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(read)";
+}
+
+TEST(SectionTable, FindsSectionsByNameWithTheirVersions) {
+  const std::string bytes = two_sections();
+  BinaryReader in(bytes, "f");
+  const SectionTable t(in);
+  auto b = t.get("b", 2);  // (in any order)
+  EXPECT_EQ(b.version, 2u);
+  EXPECT_EQ(b.body.get<std::string>(), "bee");
+  auto a = t.get("a", 1);
+  EXPECT_EQ(a.body.get<std::uint64_t>(), 42u);
+  EXPECT_TRUE(a.body.done());
+  EXPECT_FALSE(t.find("c", 1).has_value());
+}
+
+TEST(SectionTable, RefusesAbsentNewerRepeatedAndDamagedSections) {
+  const std::string bytes = two_sections();
+  EXPECT_NE(damage_of(bytes, "c", 1).find("it has no section 'c'"), std::string::npos);
+  EXPECT_NE(damage_of(bytes, "b", 1).find("section 'b' of version 2, newer than this build's 1"), std::string::npos);
+  EXPECT_NE(damage_of(bytes + bytes, "a", 1).find("section 'a' twice"), std::string::npos);
+  std::string flipped = bytes;
+  flipped.back() = static_cast<char>(flipped.back() ^ 1);
+  EXPECT_NE(damage_of(flipped, "a", 1).find("section 'b' does not match its checksum"), std::string::npos);
+  EXPECT_NE(damage_of(bytes.substr(0, bytes.size() - 1), "a", 1).find("it ends early"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace bushel::io
