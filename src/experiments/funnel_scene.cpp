@@ -43,12 +43,12 @@ FunnelScene make_funnel_scene(const FunnelSpec& spec) {
   sim.add_part(plane_part("floor", steel, {0, 0, -0.15}, {0, 0, 1}));
   // The grain starts as a loose cloud above the funnel, within 80% of its top radius.
   const double exclusion = 1.013 * d;
-  const auto t = sim.particles().add_type(std::move(type));
+  const auto t = sim.add_type(std::move(type));
   std::mt19937_64 rng(spec.seed ^ 0x9e3779b97f4a7c15ULL);
   std::normal_distribution<double> n01;
   for (const Vec3& p : random_cloud(spec.count, 0.8 * cone.top_radius, exclusion, 0.3, spec.seed)) {
     const Quat q = normalized(Quat{n01(rng), n01(rng), n01(rng), n01(rng)});
-    sim.particles().add(t, {p + Vec3{0, 0, cone.height + 2e-3}, q, {}, {}});
+    sim.add_body(t, {p + Vec3{0, 0, cone.height + 2e-3}, q, {}, {}});
   }
   return scene;
 }

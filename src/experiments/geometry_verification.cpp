@@ -20,8 +20,8 @@ double settled_load(Part floor, double x, double y, bool quick) {
   const double dt = 0.2 * rayleigh(radius);
   Simulation sim(settings(dt, {0.5, 0.27, 0.01}, {0, 0, -g}));
   sim.add_part(std::move(floor));
-  const auto t = sim.particles().add_type(type);
-  sim.particles().add(t, {{x, y, radius + 1e-4}, {}, {}, {}});
+  const auto t = sim.add_type(type);
+  sim.add_body(t, {{x, y, radius + 1e-4}, {}, {}, {}});
   sim.step(quick ? 20'000 : 50'000);
   return -sim.part(0).force.z;  // the sphere pushes the floor down
 }
@@ -56,10 +56,10 @@ std::vector<CheckResult> mesh_contact(const Options& o) {
     Simulation sim(settings(dt, {0.5, 0.5, 0.0}, {0, 0, -g}));
     sim.add_part(mesh ? make_part("floor", MeshSpec{square_mesh(0.2, 40), "square mesh"}, materials::steel())
                       : floor_wall());
-    const auto t = sim.particles().add_type(sphere());
+    const auto t = sim.add_type(sphere());
     const double z = radius - resting_overlap(sphere(), g), v = 0.3;
     const Vec3 dir = normalized(Vec3{1.0, 0.37, 0.0});
-    sim.particles().add(t, {{-0.05, -0.02, z}, {}, v * dir, (v / z) * cross(Vec3{0, 0, 1}, dir)});
+    sim.add_body(t, {{-0.05, -0.02, z}, {}, v * dir, (v / z) * cross(Vec3{0, 0, 1}, dir)});
     sim.step(2000);  // let the start settle
     double worst = 0.0;
     const auto n = static_cast<std::uint64_t>((o.quick ? 0.1 : 0.3) / dt);
@@ -80,9 +80,9 @@ std::vector<CheckResult> mesh_contact(const Options& o) {
     Simulation sim(settings(dt, {0.5, 0.5, 0.0}, tilted));
     sim.add_part(mesh ? make_part("floor", MeshSpec{square_mesh(0.2, 40), "square mesh"}, materials::steel())
                       : floor_wall());
-    const auto t = sim.particles().add_type(sphere());
+    const auto t = sim.add_type(sphere());
     const double z = radius - resting_overlap(sphere(), std::hypot(tilted.x, tilted.z));
-    sim.particles().add(t, {{-0.011, 0.0023, z}, {}, {-0.25, 0.1, 0.0}, {}});
+    sim.add_body(t, {{-0.011, 0.0023, z}, {}, {-0.25, 0.1, 0.0}, {}});
     sim.step(static_cast<std::uint64_t>((o.quick ? 0.15 : 0.3) / dt));
     stop[mesh ? 1 : 0] = sim.particles().position[0];
   }

@@ -110,13 +110,13 @@ PourScene make_pour_scene(const PourSpec& spec) {
     sim.add_part(plane_part("bottom", steel, {0, 0, 0}, {0, 0, 1}));
   }
   sim.add_part(make_part("side", CylinderSpec{radius, top + diameter, inside}, steel));
-  const auto t = sim.particles().add_type(std::move(type));
+  const auto t = sim.add_type(std::move(type));
   std::mt19937_64 rng(spec.seed ^ 0x9e3779b97f4a7c15ULL);
   std::normal_distribution<double> n01;
   for (const Vec3& p : cloud) {
     const Quat q = normalized(Quat{n01(rng), n01(rng), n01(rng), n01(rng)});  // uniform random orientation
     const Vec3 v = spec.initial_speed * normalized(Vec3{n01(rng), n01(rng), n01(rng)});
-    sim.particles().add(t, {p, q, v, {}});
+    sim.add_body(t, {p, q, v, {}});
   }
   return scene;
 }

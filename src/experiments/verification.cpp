@@ -47,10 +47,10 @@ std::vector<CheckResult> restitution(const Options& o) {
     for (const double v : speeds) {
       {  // head-on, equal spheres, approach speed v
         Simulation sim(settings(dt, {e, 0.0, 0.0}));
-        const auto t = sim.particles().add_type(sphere());
+        const auto t = sim.add_type(sphere());
         const double gap = 0.02 * radius;
-        sim.particles().add(t, {{-radius - gap, 0, 0}, {}, {0.5 * v, 0, 0}, {}});
-        sim.particles().add(t, {{radius + gap, 0, 0}, {}, {-0.5 * v, 0, 0}, {}});
+        sim.add_body(t, {{-radius - gap, 0, 0}, {}, {0.5 * v, 0, 0}, {}});
+        sim.add_body(t, {{radius + gap, 0, 0}, {}, {-0.5 * v, 0, 0}, {}});
         run_through_contact(
             sim, [&] { return sim.contacts() > 0; }, 1'000'000);
         const auto& p = sim.particles();
@@ -61,8 +61,8 @@ std::vector<CheckResult> restitution(const Options& o) {
       {  // sphere onto the plane
         Simulation sim(settings(dt, {e, 0.0, 0.0}));
         sim.add_part(floor_wall());
-        const auto t = sim.particles().add_type(sphere());
-        sim.particles().add(t, {{0, 0, 1.02 * radius}, {}, {0, 0, -v}, {}});
+        const auto t = sim.add_type(sphere());
+        sim.add_body(t, {{0, 0, 1.02 * radius}, {}, {0, 0, -v}, {}});
         run_through_contact(
             sim, [&] { return sim.part(0).force.z != 0.0; }, 1'000'000);
         out.push_back(result(fmt::format("restitution sphere-wall e={:g} v={:g} m/s", e, v), "e [-]", e,
@@ -79,9 +79,9 @@ std::vector<CheckResult> hertz_contact_time(const Options& o) {
     const double dt = 0.005 * rayleigh(radius);
     Simulation sim(settings(dt, {1.0, 0.0, 0.0}));
     const ParticleType type = sphere();
-    const auto t = sim.particles().add_type(type);
-    sim.particles().add(t, {{-radius - 1e-6, 0, 0}, {}, {0.5 * v, 0, 0}, {}});
-    sim.particles().add(t, {{radius + 1e-6, 0, 0}, {}, {-0.5 * v, 0, 0}, {}});
+    const auto t = sim.add_type(type);
+    sim.add_body(t, {{-radius - 1e-6, 0, 0}, {}, {0.5 * v, 0, 0}, {}});
+    sim.add_body(t, {{radius + 1e-6, 0, 0}, {}, {-0.5 * v, 0, 0}, {}});
     const std::uint64_t steps = run_through_contact(
         sim, [&] { return sim.contacts() > 0; }, 1'000'000);
     const double e_star = effective_youngs_modulus(type.material, type.material);
@@ -103,12 +103,12 @@ std::vector<CheckResult> energy_conservation(const Options& o) {
     sim.add_part(plane_part("lo_" + axis, materials::steel(), -half * axes[a], axes[a]));
     sim.add_part(plane_part("hi_" + axis, materials::steel(), half * axes[a], -axes[a]));
   }
-  const auto t = sim.particles().add_type(sphere());
+  const auto t = sim.add_type(sphere());
   std::mt19937_64 rng(2024);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int i = 0; i < 8; ++i) {
     const Vec3 p{(i & 1 ? 2.5 : -2.5) * radius, (i & 2 ? 2.5 : -2.5) * radius, (i & 4 ? 2.5 : -2.5) * radius};
-    sim.particles().add(t, {p, {}, {u(rng), u(rng), u(rng)}, {}});
+    sim.add_body(t, {p, {}, {u(rng), u(rng), u(rng)}, {}});
   }
   auto any_contact = [&] {
     if (sim.contacts() > 0) return true;
@@ -145,8 +145,8 @@ std::vector<CheckResult> oblique_impact(const Options& o) {
   for (const Case& c : cases) {
     Simulation sim(settings(dt, {0.1, c.mu, 0.0}));
     sim.add_part(floor_wall());
-    const auto t = sim.particles().add_type(sphere());
-    sim.particles().add(t, {{0, 0, 1.001 * radius}, {}, {c.v_t, 0, -c.v_n}, {}});
+    const auto t = sim.add_type(sphere());
+    sim.add_body(t, {{0, 0, 1.001 * radius}, {}, {c.v_t, 0, -c.v_n}, {}});
     run_through_contact(
         sim, [&] { return sim.part(0).force.z != 0.0; }, 1'000'000);
     const auto& p = sim.particles();
@@ -174,9 +174,9 @@ std::vector<CheckResult> incline(const Options& o) {
     const double th = theta_deg * pi / 180.0;
     Simulation sim(settings(dt, {0.5, mu, 0.0}, {g * std::sin(th), 0, -g * std::cos(th)}));
     sim.add_part(floor_wall());
-    const auto t = sim.particles().add_type(type);
+    const auto t = sim.add_type(type);
     const double z = type.shape.extents().z / 2;
-    sim.particles().add(t, {{0, 0, z}, {}, {}, {}});
+    sim.add_body(t, {{0, 0, z}, {}, {}, {}});
     const auto n1 = static_cast<std::uint64_t>(t1 / dt), n2 = static_cast<std::uint64_t>((t2 - t1) / dt);
     sim.step(n1);
     const double v1 = sim.particles().velocity[0].x;
@@ -218,9 +218,9 @@ std::vector<CheckResult> rolling_friction(const Options& o) {
     const double dt = 0.2 * rayleigh(radius);
     Simulation sim(settings(dt, {0.5, 0.5, mu_r}, {0, 0, -g}, model));
     sim.add_part(floor_wall());
-    const auto t = sim.particles().add_type(type);
+    const auto t = sim.add_type(type);
     const double z = radius - resting_overlap(type, g);
-    sim.particles().add(t, {{0, 0, z}, {}, {v0, 0, 0}, {0, v0 / z, 0}});
+    sim.add_body(t, {{0, 0, z}, {}, {v0, 0, 0}, {0, v0 / z, 0}});
     const auto n1 = static_cast<std::uint64_t>(0.02 / dt), n2 = static_cast<std::uint64_t>((o.quick ? 0.1 : 0.3) / dt);
     sim.step(n1);
     const double v1 = sim.particles().velocity[0].x;
@@ -236,8 +236,8 @@ std::vector<CheckResult> clump_free_rotation(const Options& o) {
   const ParticleTemplate& shape = TemplateLibrary::builtin().get("large_5s");
   const double dt = 0.2 * rayleigh(shape.min_sphere_radius());
   Simulation sim(settings(dt, {0.5, 0.3, 0.0}));
-  const auto t = sim.particles().add_type({"large_5s", shape, materials::wheat()});
-  sim.particles().add(t, {{}, Quat::from_axis_angle(normalized(Vec3{1, 2, 3}), 0.4), {}, {30, -50, 80}});
+  const auto t = sim.add_type({"large_5s", shape, materials::wheat()});
+  sim.add_body(t, {{}, Quat::from_axis_angle(normalized(Vec3{1, 2, 3}), 0.4), {}, {30, -50, 80}});
   const auto& p = sim.particles();
   const double e0 = p.rotational_energy(0);
   const double l0 = norm(p.spin_momentum(0));
@@ -253,9 +253,9 @@ std::vector<CheckResult> rest(const Options& o) {
   const double dt = 0.2 * rayleigh(radius);
   Simulation sim(settings(dt, {0.5, 0.27, 0.01}, {0, 0, -g}));
   sim.add_part(floor_wall());
-  const auto t = sim.particles().add_type(type);
+  const auto t = sim.add_type(type);
   const Vec3 start{0, 0, radius - resting_overlap(type, g)};
-  sim.particles().add(t, {start, {}, {}, {}});
+  sim.add_body(t, {start, {}, {}, {}});
   sim.step(o.quick ? 20'000 : 100'000);
   const auto& p = sim.particles();
   const Vec3 d = p.position[0] - start;
@@ -264,13 +264,13 @@ std::vector<CheckResult> rest(const Options& o) {
   // sphere and a sphere-part contact) comes to rest from just touching.
   Simulation falling(settings(dt, {0.5, 0.27, 0.01}, {0, 0, -g}));
   falling.add_part(floor_wall());
-  falling.particles().add(falling.particles().add_type(type), {{0, 0, 10 * radius}, {}, {}, {}});
+  falling.add_body(falling.add_type(type), {{0, 0, 10 * radius}, {}, {}, {}});
   falling.step(1);
   Simulation stack(settings(dt, {0.5, 0.27, 0.01}, {0, 0, -g}));
   stack.add_part(floor_wall());
-  const auto ts = stack.particles().add_type(type);
-  stack.particles().add(ts, {{0, 0, radius}, {}, {}, {}});
-  stack.particles().add(ts, {{0, 0, 3 * radius}, {}, {}, {}});
+  const auto ts = stack.add_type(type);
+  stack.add_body(ts, {{0, 0, radius}, {}, {}, {}});
+  stack.add_body(ts, {{0, 0, 3 * radius}, {}, {}, {}});
   stack.step(o.quick ? 20'000 : 100'000);
   return {result("at rest on a plane: horizontal drift", "|dx| [m]", 0.0, std::hypot(d.x, d.y), 1e-12),
           result("at rest on a plane: speed", "|v| [m/s]", 0.0, norm(p.velocity[0]), 1e-6),

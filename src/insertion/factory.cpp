@@ -117,7 +117,7 @@ std::size_t Factory::run(Simulation& sim, double active) {
 
   // The elements that a new particle could touch: those near the region (and, as they are
   // made, the new ones).
-  ParticleSystem& ps = sim.particles();
+  const ParticleSystem& ps = sim.particles();
   const double r_new = *std::max_element(type_radius_.begin(), type_radius_.end());
   double r_old = 0.0;
   for (const double r : ps.radius) r_old = std::max(r_old, r);
@@ -158,7 +158,7 @@ std::size_t Factory::run(Simulation& sim, double active) {
         if (!clear) break;
       }
       if (!clear) continue;
-      ps.add(spec_.types[k], {c, q, spec_.velocity, {}});
+      sim.add_body(spec_.types[k], {c, q, spec_.velocity, {}});
       for (const auto& e : type.shape.spheres) {
         near_x.push_back(c + rotate(q, e.centre));
         near_r.push_back(e.radius);

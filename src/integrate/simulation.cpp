@@ -98,6 +98,7 @@ std::size_t Simulation::add_part(Part part) {
   }
   w_->parts.push_back(std::move(part));
   w_->candidates.stale = true;
+  w_->forces_valid = false;  // (the part's reactions are not in the last forces)
   return w_->parts.size() - 1;
 }
 
@@ -136,7 +137,15 @@ TriangleMesh Simulation::part_surface(std::size_t i, int segments, double plane_
   return m;
 }
 
-void Simulation::absorb_changes() {
+std::uint32_t Simulation::add_type(ParticleType type) { return w_->particles.add_type(std::move(type)); }
+
+std::uint32_t Simulation::add_body(std::uint32_t type, const BodyState& state) {
+  const std::uint32_t id = w_->particles.add(type, state);
+  w_->forces_valid = false;  // (velocity Verlet's first half kick needs the new body's force)
+  return id;
+}
+
+void Simulation::prepare_steps() {
   engine::World& w = *w_;
   const auto& types = w.particles.types();
   if (types.size() != w.configured.types || w.parts.size() != w.configured.parts) {
@@ -159,9 +168,6 @@ void Simulation::absorb_changes() {
   }
   const std::size_t n_s = w.particles.spheres();
   engine::ContactSums& s = w.sums;
-  // New particles or parts: the last forces (velocity Verlet's first half kick) are stale.
-  if (s.element_force.size() != n_s || w.parts.size() != w.forces_parts) w.forces_valid = false;
-  w.forces_parts = w.parts.size();
   s.element_force.resize(n_s);
   s.element_torque.resize(n_s);
   s.element_cdt.resize(n_s);
@@ -193,7 +199,7 @@ void Simulation::remove_bodies(std::span<const std::size_t> bodies) {
   // The neighbour list and the part candidates index elements: both are found again now
   // (their histories follow the stable ids), so that what reads them between steps (a
   // sensor) sees the bodies that remain; the stored forces belong to the old bodies.
-  absorb_changes();
+  prepare_steps();
   engine::rebuild_neighbors(*w_, false);
   w_->forces_valid = false;
 }
@@ -209,7 +215,7 @@ void Simulation::compute_forces() {
 }
 
 void Simulation::step(std::uint64_t n) {
-  absorb_changes();
+  prepare_steps();
   engine::World& w = *w_;
   const double dt = w.settings.dt;
   // A kick over kick_dt, then the drift and the parts over dt: the displacements since the

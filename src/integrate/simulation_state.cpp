@@ -50,7 +50,6 @@ void each_saved_member(W& w, F&& f) {
   f(w.time);
   f(w.steps);
   f(w.diagnostics.max_overlap_ratio);
-  f(w.forces_parts);
   f(s.active_build);
   f(s.direct_build);
   f(w.diagnostics.contacts);
@@ -138,7 +137,7 @@ void Simulation::load_state(const io::SectionTable& in) {
   // The derived tables (pair coefficients) and the neighbour list's configuration, then the
   // saved list and every per-pair and per-element array over them.
   const std::vector<Vec3> placed = w.particles.sphere_position;
-  absorb_changes();
+  prepare_steps();
   w.particles.sphere_position = placed;
   auto neighbors = in.get("engine.neighbors", neighbors_version);
   w.neighbors.load(neighbors.body);

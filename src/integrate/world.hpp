@@ -96,7 +96,7 @@ struct StepDiagnostics {
 enum class Displacements : int { unknown = -1, within_skin = 0, past_skin = 1 };
 
 /// The coefficients and the neighbour list's configuration follow the particle types and
-/// parts that exist: these record what they were made for (Simulation::absorb_changes).
+/// parts that exist: these record what they were made for (Simulation::prepare_steps).
 struct Configuration {
   std::size_t types = 0, parts = 0;  ///< counts the coefficient table was made for
   bool neighbors = false;            ///< the neighbour list has its skin and history size
@@ -117,8 +117,9 @@ struct World {
   StepDiagnostics diagnostics;
   Configuration configured;
   Displacements displacements = Displacements::unknown;
-  bool forces_valid = false;     ///< the bodies' forces belong to the current state (velocity Verlet)
-  std::size_t forces_parts = 0;  ///< part count the last forces were computed with
+  /// The bodies' forces belong to the current state (velocity Verlet's first half kick);
+  /// false after add_body, add_part and remove_bodies until the next forces.
+  bool forces_valid = false;
   double time = 0.0;             ///< [s]
   std::uint64_t steps = 0;
 };

@@ -15,7 +15,7 @@ Motion shifted(Motion m, double t0) {
 
 RunState::RunState(const Scenario& s) : sc(s), sim(s.settings), factory_on(s.factory_enabled) {
   for (const auto& t : sc.types) {
-    sim.particles().add_type(t);
+    sim.add_type(t);
     type_names.push_back(t.name);
   }
   for (const auto& p : sc.parts) sim.add_part(p);

@@ -48,7 +48,7 @@ TEST_P(MixedBed, KeepsMomentumAndAngularMomentum) {
   settings.contacts.set(sphere.name, clump.name, {0.4, 0.5, 0.02});
   Simulation sim(settings);
   auto& ps = sim.particles();
-  const auto ts = ps.add_type(sphere), tc = ps.add_type(clump);
+  const auto ts = sim.add_type(sphere), tc = sim.add_type(clump);
   const std::vector<Vec3> cloud = random_cloud(1200, 0.045, 6.3e-3, 0.35, 11);
   Vec3 centre;
   for (const Vec3& x : cloud) centre += x / static_cast<double>(cloud.size());
@@ -58,7 +58,7 @@ TEST_P(MixedBed, KeepsMomentumAndAngularMomentum) {
     const Quat q = normalized(Quat{n01(rng), n01(rng), n01(rng), n01(rng)});
     // Falling in towards the centre (and tumbling), so that the bed is soon dense.
     const Vec3 v = -150.0 * (cloud[k] - centre) + 0.1 * Vec3{n01(rng), n01(rng), n01(rng)};
-    ps.add(k % 2 == 0 ? ts : tc, {cloud[k], q, v, 30.0 * Vec3{n01(rng), n01(rng), n01(rng)}});
+    sim.add_body(k % 2 == 0 ? ts : tc, {cloud[k], q, v, 30.0 * Vec3{n01(rng), n01(rng), n01(rng)}});
   }
   sim.step(1);  // every body's angular momentum set by the integrator
   const Totals before = totals(ps);

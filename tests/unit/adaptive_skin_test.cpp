@@ -15,9 +15,9 @@ namespace {
 struct Pair {
   explicit Pair(double skin = 0.0) : sim(settings(skin)) {
     auto& ps = sim.particles();
-    const auto t = ps.add_type(wheat_particle("sphere"));
-    ps.add(t, {{-0.05, 0, 0}, {}, {}, {}});
-    ps.add(t, {{0.05, 0, 0}, {}, {}, {}});
+    const auto t = sim.add_type(wheat_particle("sphere"));
+    sim.add_body(t, {{-0.05, 0, 0}, {}, {}, {}});
+    sim.add_body(t, {{0.05, 0, 0}, {}, {}, {}});
     radius = ps.radius[0];
   }
   static SimulationSettings settings(double skin) {

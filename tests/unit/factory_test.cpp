@@ -19,7 +19,7 @@ namespace {
 Simulation kanmark_simulation() {
   Simulation sim(wheat_settings(2e-6));
   for (const char* name : {"large_5s", "medium_5s", "small_5s"}) {
-    sim.particles().add_type({name, TemplateLibrary::builtin().get(name), materials::wheat()});
+    sim.add_type({name, TemplateLibrary::builtin().get(name), materials::wheat()});
   }
   return sim;
 }

@@ -338,10 +338,10 @@ TEST(Parts, VelocityVerletTakesParticlesAddedBetweenSteps) {
   s.contacts = ContactTable({0.5, 0.3, 0.0});
   Simulation sim(s);
   sim.add_part(plane_part("floor", materials::steel(), {0, 0, 0}, {0, 0, 1}));
-  const auto t = sim.particles().add_type({"grain", make_template("sphere", {{{0, 0, 0}, 1e-3}}), materials::wheat()});
-  sim.particles().add(t, {{0, 0, 0.9999e-3}, {}, {}, {}});
+  const auto t = sim.add_type({"grain", make_template("sphere", {{{0, 0, 0}, 1e-3}}), materials::wheat()});
+  sim.add_body(t, {{0, 0, 0.9999e-3}, {}, {}, {}});
   sim.step(10);
-  for (int k = 1; k <= 20; ++k) sim.particles().add(t, {{0.003 * k, 0, 0.9999e-3}, {}, {}, {}});
+  for (int k = 1; k <= 20; ++k) sim.add_body(t, {{0.003 * k, 0, 0.9999e-3}, {}, {}, {}});
   sim.step(10);
   EXPECT_EQ(sim.part(0).touches, 21u);
   EXPECT_GT(-sim.part(0).force.z, 0.0);

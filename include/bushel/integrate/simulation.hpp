@@ -10,8 +10,7 @@
 //   4. servos act on the forces of step 2
 //   5. integrate (symplectic Euler or velocity Verlet; quaternion rigid rotation)
 //   6. move the geometry parts (motion.hpp)
-// Particles enter through particles().add (taken in at the next step) and leave through
-// remove_bodies.
+// Particles enter through add_body and leave through remove_bodies.
 
 #include <cstdint>
 #include <memory>
@@ -58,10 +57,16 @@ class Simulation {
   Simulation(Simulation&&) noexcept;
   Simulation& operator=(Simulation&&) noexcept;
 
-  /// The particles. Bodies added here (ParticleSystem::add, add_type) are taken in at the
-  /// next step; remove them with remove_bodies.
+  /// The particles, to read and to set their state; add and remove them through add_type,
+  /// add_body and remove_bodies.
   ParticleSystem& particles();
   const ParticleSystem& particles() const;
+  /// Registers a particle type (its contact species) and returns its index; validates the
+  /// material. Its coefficients with every other species are made before the next step.
+  std::uint32_t add_type(ParticleType type);
+  /// Adds a body of `type` at `state` and returns its stable id. It joins the contacts at the
+  /// next step (a neighbour-list build); the last forces no longer stand for the state.
+  std::uint32_t add_body(std::uint32_t type, const BodyState& state);
   /// Adds a geometry part; returns its index. Throws InputError (key "parts.<name>...") for
   /// a bad shape, material or motion, or a plane that is told to rotate.
   std::size_t add_part(Part part);
@@ -119,10 +124,10 @@ class Simulation {
   const NeighborList& neighbors() const;
 
  private:
-  /// Takes in what changed from outside since the last step: new particle types or parts
-  /// (the coefficient table, the neighbour list's configuration), new particles (the
-  /// per-element arrays; their displacements are measured afresh).
-  void absorb_changes();
+  /// Readies the World for steps after changes from outside: the coefficient table for the
+  /// species that exist, the neighbour list's configuration (once), the per-element arrays for
+  /// the elements that exist, the elements placed; their displacements are measured afresh.
+  void prepare_steps();
   /// Forces of the current state: stages 1 to 4.
   void compute_forces();
 
