@@ -62,7 +62,9 @@ def mask_part_padding(engine):
     Simulation::save_state's parts, each a Pose (56 bytes), enabled (1), its MotionSegments
     (a count, then 152 bytes each: Kind, 4 bytes of padding, doubles), has_servo (1), a
     ServoSpec (88), force, torque (24 each), a Twist (48), a ServoState (measured_force,
-    speed, held, 7 bytes of padding, held_since: 32), touches and moved (8 each)."""
+    speed, held, 7 bytes of padding, held_since: 32), touches and moved (8 each). Builds
+    since the padding became named zero fields write zeros there; older ones left it
+    uninitialised."""
     b = bytearray(engine)
     (parts,) = struct.unpack_from("<Q", b, 0)
     at = 8

@@ -5,6 +5,7 @@
 // part of each step a segment is active, so a gate told to turn 180 degrees at 7.85 rad/s
 // turns exactly pi, whatever the time step.
 
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -28,6 +29,9 @@ struct MotionSegment {
                 ///< dropped in free fall at `gravity` onto its start position (a tapping device)
   };
   Kind kind = Kind::translate;
+  /// Zero: the room between `kind` and `start`, named so that a checkpoint, which stores this
+  /// struct's bytes, holds no uninitialised memory.
+  std::uint32_t padding = 0;
   double start = 0.0;                                    ///< [s]
   double end = std::numeric_limits<double>::infinity();  ///< [s]
   Vec3 velocity;                                         ///< translate [m/s]
@@ -46,6 +50,7 @@ struct MotionSegment {
   /// Its rate [m/s].
   double offset_rate(double t) const;
 };
+static_assert(sizeof(MotionSegment) == 19 * sizeof(double), "MotionSegment has no unnamed padding");
 
 /// Moves a part along `axis` to hold the force the particles exert against that motion at
 /// `target_force`: speed = gain (target - measured), limited to max_speed, and never past
@@ -69,8 +74,12 @@ struct ServoState {
   double measured_force = 0.0;  ///< force against the axis [N]
   double speed = 0.0;           ///< along the axis [m/s]
   bool held = false;            ///< within tolerance now
-  double held_since = -1.0;     ///< time the current hold began [s]; -1 when not held
+  /// Zero: the room after `held`, named so that a checkpoint, which stores this struct's
+  /// bytes, holds no uninitialised memory.
+  std::uint8_t padding[7] = {};
+  double held_since = -1.0;  ///< time the current hold began [s]; -1 when not held
 };
+static_assert(sizeof(ServoState) == 4 * sizeof(double), "ServoState has no unnamed padding");
 
 struct Motion {
   std::vector<MotionSegment> segments;
