@@ -128,35 +128,27 @@ void Simulation::save_state(io::BinaryWriter& out) const {
 
 void Simulation::load_state(const io::SectionTable& in) {
   engine::World& w = *w_;
-  auto parts = in.get("engine.parts", parts_version);
-  load_parts(parts.body, w);
-  io::SectionTable::expect_end(parts.body, "engine.parts");
-  auto particles = in.get("engine.particles", particles_version);
-  w.particles.load(particles.body);
-  io::SectionTable::expect_end(particles.body, "engine.particles");
+  in.read("engine.parts", parts_version, true, [&](io::BinaryReader& b) { load_parts(b, w); });
+  in.read("engine.particles", particles_version, true, [&](io::BinaryReader& b) { w.particles.load(b); });
   // The derived tables (pair coefficients) and the neighbour list's configuration, then the
   // saved list and every per-pair and per-element array over them.
   const std::vector<Vec3> placed = w.particles.sphere_position;
   prepare_steps();
   w.particles.sphere_position = placed;
-  auto neighbors = in.get("engine.neighbors", neighbors_version);
-  w.neighbors.load(neighbors.body);
-  io::SectionTable::expect_end(neighbors.body, "engine.neighbors");
-  auto contacts = in.get("engine.contacts", contacts_version);
-  each_saved_member(w, [&](auto& m) { get_member(contacts.body, m); });
-  io::SectionTable::expect_end(contacts.body, "engine.contacts");
+  in.read("engine.neighbors", neighbors_version, true, [&](io::BinaryReader& b) { w.neighbors.load(b); });
+  in.read("engine.contacts", contacts_version, true,
+          [&](io::BinaryReader& b) { each_saved_member(w, [&](auto& m) { get_member(b, m); }); });
   // Without its diagnostics a state still continues (the unbalanced force ratio is unknown
   // until the next step, the adaptive skin counts from the checkpoint's step).
   w.diagnostics.pair_force_sum = w.diagnostics.part_force_sum = 0.0;
   w.diagnostics.part_contacts = 0;
   w.skin.last_build_step = w.steps;
-  if (auto d = in.find("engine.diagnostics", diagnostics_version)) {
-    d->body.get(w.diagnostics.pair_force_sum);
-    d->body.get(w.diagnostics.part_force_sum);
-    w.diagnostics.part_contacts = static_cast<std::size_t>(d->body.get<std::uint64_t>());
-    d->body.get(w.skin.last_build_step);
-    io::SectionTable::expect_end(d->body, "engine.diagnostics");
-  }
+  in.read("engine.diagnostics", diagnostics_version, false, [&](io::BinaryReader& b) {
+    b.get(w.diagnostics.pair_force_sum);
+    b.get(w.diagnostics.part_force_sum);
+    w.diagnostics.part_contacts = static_cast<std::size_t>(b.get<std::uint64_t>());
+    b.get(w.skin.last_build_step);
+  });
 }
 
 }  // namespace bushel

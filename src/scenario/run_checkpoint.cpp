@@ -145,31 +145,22 @@ void put_components(io::BinaryWriter& out, const RunState& st, const Position& p
   out.put_section("guards", guards_version, guards);
 }
 
-// Reads section `name` (required, or absent and skipped when `required` is false) with `read`.
-template <class F>
-void read_section(const io::SectionTable& t, std::string_view name, std::uint32_t version, bool required, F&& read) {
-  std::optional<io::SectionTable::Section> s = required ? std::optional(t.get(name, version)) : t.find(name, version);
-  if (!s) return;
-  read(s->body);
-  io::SectionTable::expect_end(s->body, name);
-}
-
 void get_components(const io::SectionTable& t, RunState& st, Position& pos, io::FrameWriter* frames) {
-  read_section(t, "factories", factories_version, true, [&](io::BinaryReader& in) {
+  t.read("factories", factories_version, true, [&](io::BinaryReader& in) {
     in.get(st.factory_on);
     if (st.factory_on.size() != st.factories.size()) in.damaged("it does not match its scenario");
     for (auto& f : st.factories) f.load(in);
   });
-  read_section(t, "sinks", sinks_version, true, [&](io::BinaryReader& in) {
+  t.read("sinks", sinks_version, true, [&](io::BinaryReader& in) {
     for (Sink* k : sinks_and_lost(st)) each_checkpointed(*k, [&](auto& m) { in.get(m); });
   });
-  read_section(t, "flows", flows_version, true, [&](io::BinaryReader& in) {
+  t.read("flows", flows_version, true, [&](io::BinaryReader& in) {
     for (auto& f : st.flows) f.load(in);
   });
   // Without these a run continues with their defaults: frames numbered afresh, guard clocks
   // that start now.
-  if (frames) read_section(t, "frames", frames_version, false, [&](io::BinaryReader& in) { frames->load(in); });
-  read_section(t, "guards", guards_version, false, [&](io::BinaryReader& in) { pos.guards.load(in); });
+  if (frames) t.read("frames", frames_version, false, [&](io::BinaryReader& in) { frames->load(in); });
+  t.read("guards", guards_version, false, [&](io::BinaryReader& in) { pos.guards.load(in); });
 }
 
 // The build named in another format's first section, "build" (formats 3 and 4: its name, in
@@ -208,7 +199,7 @@ void save_checkpoint(const std::string& out_dir, const RunState& st, const Posit
 }
 
 void load_checkpoint(const io::SectionTable& t, RunState& st, Position& pos, io::FrameWriter* frames) {
-  read_section(t, "run", run_version, true, [&](io::BinaryReader& in) { get_run(in, st, pos); });
+  t.read("run", run_version, true, [&](io::BinaryReader& in) { get_run(in, st, pos); });
   get_components(t, st, pos, frames);
   st.sim.load_state(t);
 }

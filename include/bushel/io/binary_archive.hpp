@@ -143,6 +143,16 @@ class SectionTable {
   std::optional<Section> find(std::string_view name, std::uint32_t newest) const;
   /// Section `name`; damage if it is absent.
   Section get(std::string_view name, std::uint32_t newest) const;
+  /// Reads section `name` with `read(BinaryReader&)`, which must read every byte of it; an
+  /// absent section is damage if `required`, else skipped. Returns whether it was there.
+  template <class F>
+  bool read(std::string_view name, std::uint32_t newest, bool required, F&& read) const {
+    std::optional<Section> s = required ? std::optional(get(name, newest)) : find(name, newest);
+    if (!s) return false;
+    read(s->body);
+    expect_end(s->body, name);
+    return true;
+  }
   /// Damage unless every byte of the section was read.
   static void expect_end(const BinaryReader& body, std::string_view name);
 
