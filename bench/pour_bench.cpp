@@ -20,23 +20,19 @@
 
 #include "bushel/experiments/pour_scene.hpp"
 
-#ifdef BUSHEL_HAVE_OPENMP
-#include <omp.h>
-#endif
-
 int main(int argc, char** argv) {
   if (argc < 7) {
-    fmt::print(stderr, "usage: bench_pour N PARTICLE THREADS NPOUR NSETTLE NDENSE [DATAFILE]\n");
+    fmt::print(stderr, "usage: bench_pour N PARTICLE THREADS|auto NPOUR NSETTLE NDENSE [DATAFILE]\n");
     return 2;
   }
   bushel::PourSpec spec;
   spec.count = std::stoul(argv[1]);
   spec.particle = argv[2];
   if (const char* skin = std::getenv("BUSHEL_SKIN")) spec.skin = std::stod(skin);  // for tuning runs
-  const int threads = std::stoi(argv[3]);
-#ifdef BUSHEL_HAVE_OPENMP
-  omp_set_num_threads(threads);
-#endif
+  // "auto": the engine's thread governor picks the team size (thread_governor.hpp).
+  const std::string threads = argv[3];
+  spec.threads = threads == "auto" ? bushel::ThreadPolicy{.max = 0, .adaptive = true}
+                                   : bushel::ThreadPolicy{.max = std::stoi(threads), .adaptive = false};
   bushel::PourScene scene = bushel::make_pour_scene(spec);
   if (argc > 7) bushel::write_liggghts_data(argv[7], scene.simulation.particles(), scene.container_radius);
   auto& sim = scene.simulation;
@@ -96,7 +92,8 @@ int main(int argc, char** argv) {
     fmt::print("bushel,{},{},{},{},{},{:.3f},{:.4e},{}\n", spec.particle, spec.count, threads, phases[k], steps, s,
                static_cast<double>(steps) * static_cast<double>(spec.count) / s, sim.contacts());
     std::fflush(stdout);
-    fmt::print(stderr, "{}: {} neighbour-list builds so far\n", phases[k], sim.neighbors().builds());
+    fmt::print(stderr, "{}: {} neighbour-list builds so far, {}\n", phases[k], sim.neighbors().builds(),
+               sim.threads().describe());
   }
   // The final bed, for checking that two builds give the same bits (cmp the files).
   if (const char* final_state = std::getenv("BUSHEL_FINAL")) {

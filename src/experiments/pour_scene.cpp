@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <cmath>
+#include <utility>
 #include <fstream>
 #include <numbers>
 #include <random>
@@ -96,7 +97,9 @@ PourScene make_pour_scene(const PourSpec& spec) {
                                                         : 0.090 * std::cbrt(static_cast<double>(spec.count) / 1e4);
   const double radius = 0.5 * diameter;
 
-  PourScene scene{Simulation(wheat_settings(spec.dt_fraction * t_r, spec.rolling, spec.skin)), radius, t_r};
+  SimulationSettings settings = wheat_settings(spec.dt_fraction * t_r, spec.rolling, spec.skin);
+  settings.threads = spec.threads;
+  PourScene scene{Simulation(std::move(settings)), radius, t_r};
   Simulation& sim = scene.simulation;
   // Exclusion diameter: the bounding sphere, rounded up (6.2 mm for the 5-sphere kernels).
   const double exclusion = spec.particle == "sphere" ? 3.64e-3 : 2.0 * type.shape.bounding_radius() * 1.013;

@@ -45,6 +45,7 @@ PairCoefficientTable make_coefficients(const ContactTable& table, const std::vec
 Simulation::Simulation(SimulationSettings settings) : w_(std::make_unique<engine::World>()) {
   w_->settings = std::move(settings);
   w_->rolling = rolling_model(w_->settings.rolling);
+  w_->team = engine::Team(w_->settings.threads);
   set_time_step(w_->settings.dt);  // (its check)
   if (w_->settings.skin < 0.0) throw InputError("expected a non-negative skin").with_key("skin");
   if (!(w_->settings.tangential_damping_limit > 0.0)) {
@@ -63,6 +64,7 @@ std::size_t Simulation::parts() const { return w_->parts.size(); }
 double Simulation::time() const { return w_->time; }
 std::uint64_t Simulation::steps() const { return w_->steps; }
 const SimulationSettings& Simulation::settings() const { return w_->settings; }
+ThreadStatus Simulation::threads() const { return w_->team.status(); }
 double Simulation::max_overlap_ratio() const { return w_->diagnostics.max_overlap_ratio; }
 double Simulation::peak_overlap_ratio() const { return w_->diagnostics.peak_overlap_ratio; }
 void Simulation::reset_peak_overlap_ratio() { w_->diagnostics.peak_overlap_ratio = 0.0; }
@@ -226,7 +228,13 @@ void Simulation::step(std::uint64_t n) {
     engine::move_parts(w.parts, w.geometry, w.neighbors.skin(), w.time, dt, w.candidates);
     w.time += dt;
   };
+  w.team.enter();
+  struct Leave {  // the caller's thread count back, also when a step throws
+    engine::Team& team;
+    ~Leave() { team.leave(); }
+  } leave{w.team};
   for (std::uint64_t k = 0; k < n; ++k) {
+    w.team.before_step();
     if (w.settings.integrator == Integrator::velocity_verlet) {
       if (!w.forces_valid) compute_forces();
       kick_drift_move(0.5 * dt);

@@ -18,6 +18,7 @@
 #include "bushel/geometry/part.hpp"
 #include "bushel/integrate/simulation.hpp"
 #include "bushel/particles/particle_system.hpp"
+#include "team.hpp"
 
 namespace bushel::engine {
 
@@ -122,6 +123,7 @@ struct World {
   bool forces_valid = false;
   double time = 0.0;             ///< [s]
   std::uint64_t steps = 0;
+  Team team{ThreadPolicy{}};  ///< the thread count of the steps (not part of the state)
 };
 
 }  // namespace bushel::engine

@@ -72,6 +72,19 @@ Region read_domain(const ScenarioNode& d) {
   return Region::box(0.5 * (lo + hi), hi - lo);
 }
 
+// `threads: auto` (the default): as many as OpenMP has (OMP_NUM_THREADS or the cores), fewer
+// while fewer run faster; a number: exactly that many.
+ThreadPolicy read_threads(const ScenarioNode& sim) {
+  const auto t = sim.find("threads");
+  if (!t || t->text() == "auto") return {.max = 0, .adaptive = true};
+  if (t->text() == "0") return {.max = 0, .adaptive = true};  // (the former spelling of auto)
+  try {
+    return {.max = static_cast<int>(t->integer(1, 1024)), .adaptive = false};
+  } catch (const InputError&) {
+    throw t->error("expected 'auto' or a thread count from 1 to 1024");
+  }
+}
+
 }  // namespace
 
 void read_simulation(const ScenarioNode& sim, Scenario& sc, ReadContext& cx) {
@@ -79,7 +92,7 @@ void read_simulation(const ScenarioNode& sim, Scenario& sc, ReadContext& cx) {
                   "check_interval", "tangential_damping_limit", "guards"});
   read_engine_settings(sim, sc.settings);
   cx.seed = sim.has("seed") ? static_cast<std::uint64_t>(sim.at("seed").integer(0, 1L << 40)) : 1;
-  sc.threads = sim.has("threads") ? static_cast<int>(sim.at("threads").integer(0, 1024)) : 0;
+  sc.settings.threads = read_threads(sim);
   sc.check_interval = sim.positive_or("check_interval", dim::time, 1e-3);
   if (const auto g = sim.find("guards")) sc.guards = read_guards(*g);
   sc.domain = read_domain(sim.at("domain"));

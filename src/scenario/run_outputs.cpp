@@ -13,10 +13,6 @@
 
 #include "bushel/core/input_error.hpp"
 
-#ifdef BUSHEL_HAVE_OPENMP
-#include <omp.h>
-#endif
-
 namespace bushel::scenario_running {
 namespace {
 
@@ -57,16 +53,14 @@ void clear_output(const RunOptions& o) {
   }
 }
 
-void prepare_output(const RunOptions& o, int scenario_threads) {
+void prepare_output(const RunOptions& o) {
   std::error_code ec;
   std::filesystem::create_directories(o.out_dir, ec);
   if (ec) throw InputError("cannot create the output folder: " + ec.message()).with_key(o.out_dir);
-#ifdef BUSHEL_HAVE_OPENMP
-  const int threads = o.threads > 0 ? o.threads : scenario_threads;
-  if (threads > 0) omp_set_num_threads(threads);
-#else
-  (void)scenario_threads;
-#endif
+}
+
+ThreadPolicy thread_policy(const Scenario& sc, const RunOptions& o) {
+  return o.threads > 0 ? ThreadPolicy{.max = o.threads, .adaptive = false} : sc.settings.threads;
 }
 
 void SeriesWriter::open(const std::string& out_dir, const std::vector<std::string>& names,
@@ -129,9 +123,9 @@ void Progress::line(const Simulation& sim, const StageSpec& stage, std::size_t i
   const double steps_per_s = recent_steps_.slope();
   const double eta = steps_per_s > 0.0 ? (limit - (sim.time() - t0)) / (steps_per_s * sim.settings().dt)
                                        : std::numeric_limits<double>::infinity();
-  fmt::print(stderr, "{}stage {}/{} {}  t = {:.4f} s  particles {}  {:.0f} steps/s  stage ETA {}{}{}", tty_ ? "\r" : "",
-             index + 1, stages_, stage.name, sim.time(), sim.particles().bodies(), steps_per_s,
-             stage.duration ? "" : "<= ", format_duration(eta), tty_ ? "   " : "\n");
+  fmt::print(stderr, "{}stage {}/{} {}  t = {:.4f} s  particles {}  {:.0f} steps/s  {}  stage ETA {}{}{}",
+             tty_ ? "\r" : "", index + 1, stages_, stage.name, sim.time(), sim.particles().bodies(), steps_per_s,
+             sim.threads().describe(), stage.duration ? "" : "<= ", format_duration(eta), tty_ ? "   " : "\n");
 }
 
 void Progress::stage_ended(const Simulation& sim, const StageReport& r, std::size_t index) {

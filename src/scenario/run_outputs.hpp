@@ -20,7 +20,9 @@ namespace bushel::scenario_running {
 void clear_output(const RunOptions& o);
 
 /// Creates the output folder, and sets the run's thread count.
-void prepare_output(const RunOptions& o, int scenario_threads);
+void prepare_output(const RunOptions& o);
+/// The scenario's thread policy, or a fixed count where the options give one.
+ThreadPolicy thread_policy(const Scenario& sc, const RunOptions& o);
 
 /// timeseries.csv: a header, then a row at each of the scenario's intervals.
 class SeriesWriter {

@@ -13,7 +13,17 @@ Motion shifted(Motion m, double t0) {
   return m;
 }
 
-RunState::RunState(const Scenario& s) : sc(s), sim(s.settings), factory_on(s.factory_enabled) {
+namespace {
+
+SimulationSettings with_threads(SimulationSettings s, ThreadPolicy threads) {
+  s.threads = threads;
+  return s;
+}
+
+}  // namespace
+
+RunState::RunState(const Scenario& s, ThreadPolicy threads)
+    : sc(s), sim(with_threads(s.settings, threads)), factory_on(s.factory_enabled) {
   for (const auto& t : sc.types) {
     sim.add_type(t);
     type_names.push_back(t.name);

@@ -35,7 +35,8 @@ struct RunState {
   std::vector<const PlaneFlow*> flow_of;  // each sensor's in `flows`, or null
   std::vector<std::string> type_names, names;
 
-  explicit RunState(const Scenario& s);
+  /// The simulation of `s`, its steps on `threads` (the scenario's, or the command line's).
+  RunState(const Scenario& s, ThreadPolicy threads);
 
   double kinetic_energy_per_particle() const {
     const auto n = sim.particles().bodies();

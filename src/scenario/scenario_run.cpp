@@ -59,7 +59,7 @@ class InterruptGuard {
 // outputs due and checkpoints.
 class Runner {
  public:
-  Runner(const Scenario& sc, const RunOptions& o) : sc_(sc), o_(o), st_(sc) {}
+  Runner(const Scenario& sc, const RunOptions& o) : sc_(sc), o_(o), st_(sc, thread_policy(sc, o)) {}
 
   // A fresh run; or, with `in`, the rest of the checkpointed run in it.
   RunReport run(const io::SectionTable* in) {
@@ -305,7 +305,7 @@ class Runner {
 
 RunReport run_scenario(const Scenario& sc, const RunOptions& options) {
   clear_output(options);
-  prepare_output(options, sc.threads);
+  prepare_output(options);
   Runner runner(sc, options);
   return runner.run(nullptr);
 }
@@ -325,7 +325,7 @@ RunReport resume_scenario(const RunOptions& options) {
   io::BinaryReader in(bytes, path);
   std::optional<io::SectionTable> sections;
   const Scenario sc = read_scenario(read_checkpoint_head(in, path, sections));
-  prepare_output(options, sc.threads);
+  prepare_output(options);
   Runner runner(sc, options);
   return runner.run(&*sections);
 }

@@ -31,13 +31,15 @@ PourSpec bed_spec() {
   return spec;
 }
 
-std::uint64_t run_and_hash(int threads, std::uint64_t steps) {
+std::uint64_t run_and_hash(int threads, std::uint64_t steps, ThreadPolicy policy = {}) {
 #ifdef BUSHEL_HAVE_OPENMP
   omp_set_num_threads(threads);
 #else
   (void)threads;
 #endif
-  PourScene scene = make_pour_scene(bed_spec());
+  PourSpec spec = bed_spec();
+  spec.threads = policy;
+  PourScene scene = make_pour_scene(spec);
   std::size_t contacts_seen = 0;  // summed over sampled steps: the run must really collide
   for (std::uint64_t k = 0; k < steps; k += 10) {
     scene.simulation.step(10);
@@ -59,6 +61,9 @@ std::uint64_t run_and_hash(int threads, std::uint64_t steps) {
   h = fnv1a(h, &unbalanced, sizeof(double));
   EXPECT_GT(contacts_seen, 300u);
   EXPECT_GT(scene.simulation.neighbors().builds(), 10u);
+  if (policy.adaptive) {  // a trial ran: steps at 2 threads, then at 1, then at 2 again
+    EXPECT_GT(scene.simulation.threads().max_over_chosen, 0.0) << scene.simulation.threads().describe();
+  }
   return h;
 }
 
@@ -68,6 +73,13 @@ TEST(Determinism, SameStateAtOneAndTwoThreads) {
   const std::uint64_t two = run_and_hash(2, steps);
   EXPECT_EQ(one, two);
   EXPECT_EQ(run_and_hash(2, steps), two);  // and the same again
+}
+
+TEST(Determinism, SameStateWhenTheTeamChangesMidRun) {
+  // The thread governor switches between 2 and 1 threads between steps while it measures
+  // (thread_governor.hpp): the steps come out the same bits as on a fixed team.
+  const std::uint64_t steps = 1500;
+  EXPECT_EQ(run_and_hash(1, steps, {.max = 2, .adaptive = true}), run_and_hash(1, steps));
 }
 
 TEST(Determinism, TheUnbalancedForceComesBackFromASavedState) {

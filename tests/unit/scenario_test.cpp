@@ -137,6 +137,26 @@ TEST(Scenario, RollingModelsComeFromTheRegistry) {
       << error;
 }
 
+TEST(Scenario, ThreadsAreAutoOrACount) {
+  // absent or auto: measured while running, up to OpenMP's count; a number: exactly that many
+  EXPECT_TRUE(read(small).settings.threads.adaptive);
+  EXPECT_EQ(read(small).settings.threads.max, 0);
+  const auto with = [](const std::string& value) {
+    return replaced(small, "time_step: 0.2 rayleigh", "time_step: 0.2 rayleigh\n  threads: " + value);
+  };
+  EXPECT_TRUE(read(with("auto")).settings.threads.adaptive);
+  EXPECT_TRUE(read(with("0")).settings.threads.adaptive);
+  const ThreadPolicy three = read(with("3")).settings.threads;
+  EXPECT_FALSE(three.adaptive);
+  EXPECT_EQ(three.max, 3);
+  for (const std::string bad : {"-1", "two", "1.5", "2000"}) {
+    EXPECT_NE(error_of(with(bad)).find("s.yaml:5: key 'simulation.threads': expected 'auto' or a thread count from 1 "
+                                       "to 1024"),
+              std::string::npos)
+        << bad << ": " << error_of(with(bad));
+  }
+}
+
 TEST(Scenario, AnglesAreDegreesInTheRunAndRadiansInExpressions) {
   // (each sensor kind declares its values' dimensions: a part's and a heap's angle are angles)
   const Scenario sc = read(small);

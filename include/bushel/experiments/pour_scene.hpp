@@ -32,6 +32,7 @@ struct PourSpec {
   double skin = 0.0;                ///< Verlet skin [m]; 0 = the engine's default
   double initial_speed = 0.0;       ///< each particle starts at this speed [m/s] in a random direction
   int bottom_mesh_cells = 0;        ///< 0: the bottom is a plane; n: a square mesh of 2 n^2 triangles
+  ThreadPolicy threads;             ///< the steps' threads (default: OpenMP's setting as it is)
 };
 
 struct PourScene {

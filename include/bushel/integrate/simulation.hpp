@@ -22,6 +22,7 @@
 #include "bushel/contact/contact_table.hpp"
 #include "bushel/contact/neighbor_list.hpp"
 #include "bushel/geometry/part.hpp"
+#include "bushel/integrate/thread_governor.hpp"
 #include "bushel/particles/particle_system.hpp"
 
 namespace bushel {
@@ -44,6 +45,10 @@ struct SimulationSettings {
   /// Largest share of a contact's relative tangential velocity that its damping may take in
   /// one step [-], gamma_t dt / m_t (contact_batch.hpp); infinity: the model's damping always.
   double tangential_damping_limit = 0.5;
+  /// Threads of the parallel loops. The default leaves OpenMP's setting as the caller made it;
+  /// adaptive measures which team size runs fastest (thread_governor.hpp). Results are the
+  /// same bits at any thread count.
+  ThreadPolicy threads;
 };
 
 namespace engine {
@@ -104,6 +109,8 @@ class Simulation {
   double time() const;  ///< [s]
   std::uint64_t steps() const;
   const SimulationSettings& settings() const;
+  /// The threads that the steps use now, and why (settings().threads).
+  ThreadStatus threads() const;
   /// Sets the time step from the next step on [s]. Nothing else depends on it: the
   /// integrators take it per step, and the tangential and rolling springs grow by the
   /// displacement of each step, so a stage may run with its own step (scenario stages).

@@ -94,7 +94,6 @@ struct Scenario {
   std::vector<ResultSpec> results;
   double check_interval = 1e-3;  ///< factories, sinks, stage conditions and guards act this often [s]
   RunGuards guards;              ///< limits that stop a run gone wrong
-  int threads = 0;               ///< 0 = OpenMP's default
   /// Every value the run can report: globals, then each sensor's ("cup.bulk_density").
   std::vector<std::string> value_names() const;
   /// The same with their dimensions, as each sensor kind declares them.
