@@ -33,15 +33,18 @@ Scenario load(const RunCommandOptions& o) {
   return read_scenario(load_scenario_document(o.scenario, overrides));
 }
 
-std::string time_step_text(double dt, double fraction, double rayleigh_step) {
-  return fmt::format("{:.4g} us ({})", dt * 1e6,
-                     fraction > 0.0 ? fmt::format("{:g} of the Rayleigh step {:.4g} us", fraction, rayleigh_step * 1e6)
-                                    : fmt::format("Rayleigh step {:.4g} us", rayleigh_step * 1e6));
+std::string time_step_text(double dt, const TimeStepRule& rule, const Scenario& sc) {
+  const std::string steps = fmt::format("Rayleigh step {:.4g} us, critical step {:.4g} us", sc.rayleigh_step * 1e6,
+                                        sc.critical_step.dt * 1e6);
+  return fmt::format("{:.4g} us ({}{})", dt * 1e6, rule.fraction > 0.0 ? rule.text() + "; " : "", steps);
 }
 
 void describe(const Scenario& sc) {
   fmt::print("{}: valid\n", sc.document.file);
-  fmt::print("  time step      {}\n", time_step_text(sc.settings.dt, sc.time_step_fraction, sc.rayleigh_step));
+  fmt::print("  time step      {}\n", time_step_text(sc.settings.dt, sc.time_step_rule, sc));
+  const CriticalStep& c = sc.critical_step;
+  fmt::print("  critical step  {:.4g} us: {} contact {}, zeta {:.2f} (docs/physics.md section 3)\n", c.dt * 1e6,
+             c.tangential ? "tangential" : "normal", c.pair, c.zeta);
   const double limit = sc.settings.tangential_damping_limit;
   fmt::print("  damping limit  {}\n", std::isfinite(limit)
                                           ? fmt::format("tangential, {:g} of the sliding velocity per step", limit)
@@ -52,7 +55,7 @@ void describe(const Scenario& sc) {
   fmt::print("  sensors        {}\n", sc.sensors.size());
   for (const auto& s : sc.stages) {
     fmt::print("  stage          {}{}{}\n", s.name, s.enabled ? "" : " (skipped)",
-               s.dt ? ", time step " + time_step_text(*s.dt, s.time_step_fraction, sc.rayleigh_step) : "");
+               s.dt ? ", time step " + time_step_text(*s.dt, s.time_step_rule, sc) : "");
   }
 }
 

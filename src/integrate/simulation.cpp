@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "bushel/core/input_error.hpp"
+#include "coefficients.hpp"
 #include "stages.hpp"
 
 namespace bushel {
@@ -16,29 +17,6 @@ namespace {
 // the pour as fast (bench/results/engine-tuning.md); the neighbour stage widens it where particles move fast.
 constexpr double skin_least_per_radius = 0.22;
 constexpr double skin_most_per_radius = 0.70;
-
-// The coefficients of every pair of species (particle types, then parts).
-PairCoefficientTable make_coefficients(const ContactTable& table, const std::vector<ParticleType>& types,
-                                       const std::vector<Part>& parts) {
-  std::vector<Species> species;
-  std::vector<const Material*> materials;
-  for (const auto& t : types) {
-    species.push_back({t.name, t.material.name});
-    materials.push_back(&t.material);
-  }
-  for (const auto& w : parts) {
-    species.push_back({w.name, w.material.name});
-    materials.push_back(&w.material);
-  }
-  const DenseContactTable dense = table.resolve(species);
-  const std::size_t n = species.size();
-  std::vector<PairCoefficients> c(n * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t j = 0; j < n; ++j)
-      c[i * n + j] = make_pair_coefficients(*materials[i], *materials[j], dense(i, j));
-  }
-  return PairCoefficientTable(n, std::move(c));
-}
 
 }  // namespace
 
@@ -151,7 +129,7 @@ void Simulation::prepare_steps() {
   engine::World& w = *w_;
   const auto& types = w.particles.types();
   if (types.size() != w.configured.types || w.parts.size() != w.configured.parts) {
-    w.coefficients = make_coefficients(w.settings.contacts, types, w.parts);
+    w.coefficients = engine::make_coefficients(w.settings.contacts, types, w.parts);
     if (!w.configured.neighbors && !types.empty()) {
       // The skin's range follows the largest element of the first types; the cell size of
       // later builds follows the largest element present, so adding bigger types stays correct.

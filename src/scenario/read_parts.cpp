@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <utility>
 
 #include "bushel/io/stl.hpp"
 #include "scenario_reading.hpp"
@@ -104,9 +105,10 @@ MotionSegment read_segment(const ScenarioNode& seg, const ScenarioNode& k, const
 
 // The simulation's own checks of a part (what its shape allows of its motion, its pose,
 // faces), before any step: the run would meet them in add_part.
-void check_part(const ScenarioNode& n, const Part& part, const SimulationSettings& settings) {
+void check_part(const ScenarioNode& n, const Part& part, SimulationSettings settings) {
+  settings.dt = 1.0;  // (not read yet; no check of a part depends on it)
   try {
-    Simulation(settings).add_part(part);
+    Simulation(std::move(settings)).add_part(part);
   } catch (const InputError& e) {
     throw n.error(e.problem());
   }

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "bushel/contact/contact_model.hpp"
 #include "bushel/contact/time_scales.hpp"
+#include "bushel/integrate/critical_step.hpp"
 #include "scenario_reading.hpp"
 
 namespace bushel::scenario_reading {
@@ -98,33 +100,52 @@ void read_simulation(const ScenarioNode& sim, Scenario& sc, ReadContext& cx) {
   sc.domain = read_domain(sim.at("domain"));
 }
 
-double read_time_step(const ScenarioNode& parent, double rayleigh_step, double& fraction) {
-  const ScenarioNode ts = parent.at("time_step");
+namespace {
+
+// "0.2 rayleigh" or "0.3 critical": the fraction, or nothing if the text is not of that form.
+std::optional<double> fraction_of(const ScenarioNode& ts, const std::string& basis) {
   const std::string text = ts.text();
-  const std::string suffix = "rayleigh";
-  if (text.size() > suffix.size() && text.ends_with(suffix)) {
-    try {
-      fraction = units::parse(text.substr(0, text.size() - suffix.size()), dim::dimensionless);
-    } catch (const InputError& e) {
-      throw ts.error(e.problem());
-    }
-    if (!(fraction > 0.0 && fraction <= 1.0)) {
-      throw ts.error("expected a fraction of the Rayleigh step in (0, 1], e.g. '0.2 rayleigh' or '20% rayleigh'");
-    }
-    return fraction * rayleigh_step;
+  if (text.size() <= basis.size() || !text.ends_with(basis)) return std::nullopt;
+  double fraction = 0.0;
+  try {
+    fraction = units::parse(text.substr(0, text.size() - basis.size()), dim::dimensionless);
+  } catch (const InputError& e) {
+    throw ts.error(e.problem());
   }
-  fraction = 0.0;
+  if (!(fraction > 0.0 && fraction <= 1.0)) {
+    throw ts.error(fmt::format("expected a fraction of the {} step in (0, 1], e.g. '0.2 {}' or '20% {}'",
+                               basis == "rayleigh" ? "Rayleigh" : "critical", basis, basis));
+  }
+  return fraction;
+}
+
+}  // namespace
+
+double read_time_step(const ScenarioNode& parent, const Scenario& sc, TimeStepRule& rule) {
+  using Basis = TimeStepRule::Basis;
+  const ScenarioNode ts = parent.at("time_step");
+  if (const auto f = fraction_of(ts, "rayleigh")) {
+    rule = {Basis::rayleigh, *f};
+    return *f * sc.rayleigh_step;
+  }
+  if (const auto f = fraction_of(ts, "critical")) {
+    rule = {Basis::critical, *f};
+    return *f * sc.critical_step.dt;
+  }
+  rule = {};
   double dt = 0.0;
   try {
     dt = parent.positive("time_step", dim::time);
-  } catch (const InputError& e) {  // (say the other form too: "0.2 rayleighs" is a typo of it)
-    throw ts.error(e.problem() + "; or a fraction of the smallest element's Rayleigh step, e.g. '0.2 rayleigh'");
+  } catch (const InputError& e) {  // (say the other forms too: "0.2 rayleighs" is a typo of one)
+    throw ts.error(e.problem() +
+                   "; or a fraction of the smallest element's Rayleigh step, e.g. '0.2 rayleigh', or of the "
+                   "contacts' critical step, e.g. '0.3 critical'");
   }
-  if (dt > rayleigh_step) {
+  if (dt > sc.rayleigh_step) {
     throw ts.error(fmt::format(
         "a time step of {:.4g} us is above the Rayleigh step of the smallest element ({:.4g} us): the contacts "
         "would be unstable",
-        dt * 1e6, rayleigh_step * 1e6));
+        dt * 1e6, sc.rayleigh_step * 1e6));
   }
   return dt;
 }
@@ -136,7 +157,12 @@ void read_simulation_time_step(const ScenarioNode& sim, Scenario& sc) {
         std::min(sc.rayleigh_step, rayleigh_time_step(t.shape.min_sphere_radius(), t.material.density,
                                                       t.material.shear_modulus, t.material.poisson_ratio));
   }
-  sc.settings.dt = read_time_step(sim, sc.rayleigh_step, sc.time_step_fraction);
+  try {
+    sc.critical_step = critical_time_step(sc.types, sc.parts, sc.settings.contacts);
+  } catch (const InputError& e) {
+    throw sim.error(e.problem());
+  }
+  sc.settings.dt = read_time_step(sim, sc, sc.time_step_rule);
 }
 
 }  // namespace bushel::scenario_reading

@@ -118,7 +118,7 @@ StageSpec read_stage(const ScenarioNode& s, const Scenario& sc, const ReadContex
                              "name must be unique");
   }
   stage.enabled = s.boolean_or("enabled", true);
-  if (s.has("time_step")) stage.dt = read_time_step(s, sc.rayleigh_step, stage.time_step_fraction);
+  if (s.has("time_step")) stage.dt = read_time_step(s, sc, stage.time_step_rule);
   read_switches(s, stage, cx);
   if (const auto motions = s.find("motions")) read_stage_motions(*motions, stage, sc, cx);
   read_until(s.at("until"), stage, sc, cx);

@@ -122,6 +122,8 @@ RunSummary build_run_summary(const RunReport& report, const RunState& st, const 
   s.failed = report.failed;
   s.dt = sc.settings.dt;
   s.rayleigh_step = sc.rayleigh_step;
+  s.critical_step = sc.critical_step.dt;
+  s.time_step_rule = sc.time_step_rule.text();
   s.steps = report.steps;
   s.simulated_time = report.simulated_time;
   s.wall_time = report.wall_time;

@@ -238,6 +238,8 @@ void read_header(const Json& j, RunSummary& out) {
   out.failed = string_or(j, "failed");
   out.dt = number(j, "dt_s");
   out.rayleigh_step = number_or(j, "rayleigh_step_s", 0.0);
+  out.critical_step = number_or(j, "critical_step_s", 0.0);
+  out.time_step_rule = string_or(j, "time_step_rule");
   out.steps = member(j, "steps", Json::value_t::number_float, "a step count").get<std::size_t>();
   out.simulated_time = number(j, "simulated_time_s");
   out.wall_time = number(j, "wall_time_s");
@@ -278,6 +280,8 @@ void to_json(Json& j, const RunSummary& s) {
   j["failed"] = s.failed.empty() ? Json() : Json(s.failed);
   j["dt_s"] = s.dt;
   j["rayleigh_step_s"] = s.rayleigh_step;
+  j["critical_step_s"] = s.critical_step;
+  j["time_step_rule"] = s.time_step_rule;
   j["steps"] = s.steps;
   j["simulated_time_s"] = s.simulated_time;
   j["wall_time_s"] = s.wall_time;

@@ -1,5 +1,6 @@
 #include "bushel/scenario/scenario.hpp"
 
+#include <fmt/format.h>
 #include <filesystem>
 #include <map>
 #include <numbers>
@@ -108,6 +109,18 @@ units::Quantity evaluate_result(const ResultSpec& result, const Scenario& scenar
   });
 }
 
+std::string TimeStepRule::text() const {
+  switch (basis) {
+    case Basis::rayleigh:
+      return fmt::format("{:g} rayleigh", fraction);
+    case Basis::critical:
+      return fmt::format("{:g} critical", fraction);
+    case Basis::time:
+      break;
+  }
+  return "time";
+}
+
 Scenario read_scenario(ScenarioDocument document) {
   using namespace scenario_reading;
   Scenario sc;
@@ -120,9 +133,9 @@ Scenario read_scenario(ScenarioDocument document) {
   read_simulation(sim, sc, cx);
   read_materials(root, cx);
   read_particle_types(root, sc, cx);
-  read_simulation_time_step(sim, sc);
   if (const auto c = root.find("contacts")) read_contacts(*c, sc, cx);
   if (const auto parts = root.find("parts")) read_parts(*parts, sc, cx);
+  read_simulation_time_step(sim, sc);  // (the critical step needs the contacts and the parts)
   if (const auto fs = root.find("factories")) read_factories(*fs, sc, cx);
   if (const auto ss = root.find("sinks")) read_sinks(*ss, sc, cx);
   if (const auto ss = root.find("sensors")) read_sensors(*ss, sc, cx);

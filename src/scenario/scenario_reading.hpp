@@ -45,7 +45,8 @@ void read_simulation(const ScenarioNode& sim, Scenario& sc, ReadContext& cx);
 /// materials: and particle_types:.
 void read_materials(const ScenarioNode& root, ReadContext& cx);
 void read_particle_types(const ScenarioNode& root, Scenario& sc, ReadContext& cx);
-/// simulation.time_step, from the particle types' Rayleigh step.
+/// simulation.time_step, from the particle types' Rayleigh step or the critical step of the
+/// types' and parts' contacts (read after contacts: and parts:).
 void read_simulation_time_step(const ScenarioNode& sim, Scenario& sc);
 /// contacts: (optional).
 void read_contacts(const ScenarioNode& contacts, Scenario& sc, const ReadContext& cx);
@@ -69,7 +70,7 @@ void read_outputs(const ScenarioNode& outputs, Scenario& sc, const ReadContext& 
 Motion read_motion(const ScenarioNode& list);
 /// `parent`'s time_step, "20 us" or "0.2 rayleigh" (of the smallest element's Rayleigh step):
 /// [s]. `fraction` is set to the Rayleigh fraction if given so, else 0.
-double read_time_step(const ScenarioNode& parent, double rayleigh_step, double& fraction);
+double read_time_step(const ScenarioNode& parent, const Scenario& sc, TimeStepRule& rule);
 /// A part's shape; mesh files are found relative to `scenario_dir`.
 ShapeSpec read_shape(const ScenarioNode& n, const std::string& shape, const std::string& scenario_dir);
 

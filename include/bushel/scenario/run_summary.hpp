@@ -86,6 +86,8 @@ struct RunSummary {
   std::string failed;                 ///< why a guard stopped the run; "" if none did
   double dt = 0.0;                    ///< [s]
   double rayleigh_step = 0.0;         ///< of the smallest element [s]
+  double critical_step = 0.0;         ///< of the contacts (critical_step.hpp) [s]; 0 in older summaries
+  std::string time_step_rule;         ///< "0.2 rayleigh", "0.3 critical" or "time"; "" in older summaries
   std::size_t steps = 0;              ///< time steps
   double simulated_time = 0.0;        ///< [s]
   double wall_time = 0.0;             ///< [s]

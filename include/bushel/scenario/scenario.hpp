@@ -16,6 +16,7 @@
 #include "bushel/geometry/part.hpp"
 #include "bushel/geometry/region.hpp"
 #include "bushel/insertion/factory.hpp"
+#include "bushel/integrate/critical_step.hpp"
 #include "bushel/integrate/simulation.hpp"
 #include "bushel/scenario/run_guards.hpp"
 #include "bushel/scenario/scenario_document.hpp"
@@ -30,6 +31,15 @@ struct SinkSpec {
   bool enabled = true;  ///< at the start of the run
 };
 
+/// How a time step was given: a time, or a fraction of the smallest element's Rayleigh step
+/// ("0.2 rayleigh") or of the contacts' critical step ("0.3 critical"; docs/physics.md section 3).
+struct TimeStepRule {
+  enum class Basis { time, rayleigh, critical };
+  Basis basis = Basis::time;
+  double fraction = 0.0;  ///< of the basis's step [-]; 0 for a time
+  std::string text() const;  ///< "0.2 rayleigh", "0.3 critical" or "time"
+};
+
 /// One stage of a run: what it switches on or off and starts moving, and when it ends (the
 /// first condition met; the report says which).
 struct StageSpec {
@@ -37,7 +47,7 @@ struct StageSpec {
   bool enabled = true;  ///< false: skipped (a scenario's optional step, "enabled: ${strike}")
   /// Its own time step [s] ("time_step: 0.05 rayleigh" in the stage); none: the simulation's.
   std::optional<double> dt;
-  double time_step_fraction = 0.0;                      ///< of the Rayleigh step, if its own step was given so [-]
+  TimeStepRule time_step_rule;                          ///< how its own step was given
   std::vector<std::pair<std::size_t, bool>> factories;  ///< factory index, enabled
   std::vector<std::pair<std::size_t, bool>> sinks;      ///< sink index, enabled
   std::vector<std::pair<std::size_t, bool>> parts;      ///< part index, enabled
@@ -78,10 +88,11 @@ struct ResultSpec {
 };
 
 struct Scenario {
-  ScenarioDocument document;        ///< the file with its overrides, for the summary
-  SimulationSettings settings;      ///< dt filled in from the time step
-  double time_step_fraction = 0.0;  ///< of the smallest element's Rayleigh step, if given so [-]
-  double rayleigh_step = 0.0;       ///< of the smallest element [s]
+  ScenarioDocument document;    ///< the file with its overrides, for the summary
+  SimulationSettings settings;  ///< dt filled in from the time step
+  TimeStepRule time_step_rule;  ///< how the time step was given
+  double rayleigh_step = 0.0;   ///< of the smallest element [s]
+  CriticalStep critical_step;   ///< of the contacts of the types and parts (critical_step.hpp)
   std::vector<ParticleType> types;
   std::vector<Part> parts;
   std::vector<FactorySpec> factories;  ///< types index `types`
