@@ -68,7 +68,8 @@ void add_run_command(CLI::App& app) {
   run->add_option("--out", o->out, "Output folder (summary.json, timeseries.csv, frames/, checkpoint.bin)");
   run->add_option("--restart", o->restart, "Continue the run in this folder from its checkpoint (no scenario)");
   run->add_option("--set", o->sets, "Override a value: path.to.key=value (repeatable)");
-  run->add_option("--threads", o->threads, "a fixed thread count (0 = the scenario's setting, by default auto)")->capture_default_str();
+  run->add_option("--threads", o->threads, "a fixed thread count (0 = the scenario's setting, by default auto)")
+      ->capture_default_str();
   run->add_option("--checkpoint-every", o->checkpoint_minutes,
                   "Minutes of wall time between checkpoints (0: only on Ctrl-C)")
       ->capture_default_str()

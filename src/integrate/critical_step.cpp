@@ -37,9 +37,8 @@ double largest_tangential_turning(const Vec3& d, double r, const Vec3& inverse) 
       }
     }
   }
-  std::partial_sort(grid.begin(), grid.begin() + 4, grid.end(), [](const Point& a, const Point& b) {
-    return a.value > b.value;
-  });
+  std::partial_sort(grid.begin(), grid.begin() + 4, grid.end(),
+                    [](const Point& a, const Point& b) { return a.value > b.value; });
   double best = grid[0].value;
   for (int s = 0; s < 4; ++s) {
     Point p = grid[static_cast<std::size_t>(s)];

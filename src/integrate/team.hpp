@@ -42,8 +42,8 @@ class Team {
   bool measuring_ = false;   ///< the governor chooses (adaptive, more than one thread)
   std::uint64_t steps_ = 0;  ///< steps of the window so far
   double seconds_ = 0.0;     ///< engine time of the window so far [s]
-  Clock::time_point mark_;  ///< since when seconds_ is not yet counted
-  int outer_ = 0;           ///< the caller's OpenMP thread count
+  Clock::time_point mark_;   ///< since when seconds_ is not yet counted
+  int outer_ = 0;            ///< the caller's OpenMP thread count
 };
 
 }  // namespace bushel::engine

@@ -27,8 +27,8 @@ TEST(CriticalStep, LoneSpheresByHand) {
   const ContactSide s = contact_sides(sphere).at(0);
   const double m = sphere.mass(), r = 1.82e-3;
   EXPECT_NEAR(s.radius, r, 1e-12);
-  EXPECT_NEAR(s.normal_turning, 0.0, 1e-12 / m);           // the normal passes through the centre
-  EXPECT_NEAR(s.tangential_turning * m, 2.5, 1e-9);        // r^2 / (2/5 m r^2)
+  EXPECT_NEAR(s.normal_turning, 0.0, 1e-12 / m);     // the normal passes through the centre
+  EXPECT_NEAR(s.tangential_turning * m, 2.5, 1e-9);  // r^2 / (2/5 m r^2)
   for (const double e : {1.0, 0.5}) {
     const PairCoefficients c = wheat_on(materials::wheat(), e);
     const ContactModes modes = contact_modes(s, s, c);

@@ -129,7 +129,8 @@ TEST(Scenario, ReadsEverySectionInSI) {
 }
 
 TEST(Scenario, RollingModelsComeFromTheRegistry) {
-  const std::string with = replaced(small, "time_step: 0.2 rayleigh", "time_step: 0.2 rayleigh\n  rolling: liggghts_cdt");
+  const std::string with =
+      replaced(small, "time_step: 0.2 rayleigh", "time_step: 0.2 rayleigh\n  rolling: liggghts_cdt");
   EXPECT_EQ(read(with).settings.rolling, "liggghts_cdt");
   const std::string error = error_of(replaced(with, "rolling: liggghts_cdt", "rolling: ligghts_cdt"));
   EXPECT_NE(error.find("(did you mean 'liggghts_cdt'?); expected one of cdt, epsd, liggghts_cdt, none"),

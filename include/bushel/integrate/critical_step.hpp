@@ -37,10 +37,10 @@ std::vector<ContactSide> contact_sides(const ParticleType& type);
 /// A stable step and the contact mode that sets it.
 struct CriticalStep {
   double dt = std::numeric_limits<double>::infinity();  ///< [s]
-  double omega = 0.0;       ///< angular frequency of the mode [rad/s]
-  double zeta = 0.0;        ///< damping ratio of the mode [-]
-  bool tangential = false;  ///< the tangential mode (else the normal one)
-  std::string pair;         ///< the species in contact, e.g. "large-large" or "large-cup"
+  double omega = 0.0;                                   ///< angular frequency of the mode [rad/s]
+  double zeta = 0.0;                                    ///< damping ratio of the mode [-]
+  bool tangential = false;                              ///< the tangential mode (else the normal one)
+  std::string pair;                                     ///< the species in contact, e.g. "large-large" or "large-cup"
 };
 
 /// The overlap at which the stiffness is taken, over the smaller radius [-]: the deepest

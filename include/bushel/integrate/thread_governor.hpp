@@ -57,12 +57,12 @@ class ThreadGovernor {
 
   // Tuning, in wall seconds [s], chosen so that measuring costs about 1 % of a run.
   static constexpr double warm_up_seconds = 0.05;  ///< first steps, not measured (lists, caches)
-  static constexpr double probe_seconds = 0.08;  ///< one candidate's trial window
-  static constexpr double check_seconds = 0.25;  ///< a window of the chosen team between trials
-  static constexpr double first_interval = 3.0;  ///< between trials, doubled while the choice holds
-  static constexpr double last_interval = 48.0;  ///< the longest time between trials
-  static constexpr double slower_by = 4.0 / 3.0;  ///< a chosen team this much slower: measure again
-  static constexpr double fewer_gain = 1.05;     ///< fewer threads are kept only if this much faster
+  static constexpr double probe_seconds = 0.08;    ///< one candidate's trial window
+  static constexpr double check_seconds = 0.25;    ///< a window of the chosen team between trials
+  static constexpr double first_interval = 3.0;    ///< between trials, doubled while the choice holds
+  static constexpr double last_interval = 48.0;    ///< the longest time between trials
+  static constexpr double slower_by = 4.0 / 3.0;   ///< a chosen team this much slower: measure again
+  static constexpr double fewer_gain = 1.05;       ///< fewer threads are kept only if this much faster
 
  private:
   enum class Phase { warm_up, probe, run };
@@ -73,10 +73,10 @@ class ThreadGovernor {
   bool adaptive_;
   Phase phase_ = Phase::warm_up;
   Window window_;
-  std::vector<int> candidates_;    ///< team sizes: max, max/2, ..., 1
-  std::vector<int> order_;         ///< this trial's windows: chosen, the others, chosen
-  std::vector<double> trial_;      ///< [window of order_]: seconds per step measured [s]
-  std::size_t next_ = 0;           ///< window of order_ being run
+  std::vector<int> candidates_;  ///< team sizes: max, max/2, ..., 1
+  std::vector<int> order_;       ///< this trial's windows: chosen, the others, chosen
+  std::vector<double> trial_;    ///< [window of order_]: seconds per step measured [s]
+  std::size_t next_ = 0;         ///< window of order_ being run
   int chosen_ = 1;
   double chosen_rate_ = 0.0;  ///< seconds per step of the chosen team in its trial [s]
   double max_over_chosen_ = 0.0;

@@ -36,7 +36,7 @@ struct SinkSpec {
 struct TimeStepRule {
   enum class Basis { time, rayleigh, critical };
   Basis basis = Basis::time;
-  double fraction = 0.0;  ///< of the basis's step [-]; 0 for a time
+  double fraction = 0.0;     ///< of the basis's step [-]; 0 for a time
   std::string text() const;  ///< "0.2 rayleigh", "0.3 critical" or "time"
 };
 
