@@ -29,10 +29,10 @@ double largest_tangential_turning(const Vec3& d, double r, const Vec3& inverse) 
     double value, x[3];
   };
   std::vector<Point> grid;
-  for (int i = 0; i <= 24; ++i) {
-    for (int j = 0; j < 48; ++j) {
-      for (int k = 0; k < 24; ++k) {
-        const double x[3] = {pi * i / 24, 2 * pi * j / 48, 2 * pi * k / 24};
+  for (int i = 0; i <= 12; ++i) {
+    for (int j = 0; j < 24; ++j) {
+      for (int k = 0; k < 12; ++k) {
+        const double x[3] = {pi * i / 12, 2 * pi * j / 24, 2 * pi * k / 12};
         grid.push_back({tangential_turning(d, r, inverse, x[0], x[1], x[2]), {x[0], x[1], x[2]}});
       }
     }
@@ -60,6 +60,11 @@ double largest_tangential_turning(const Vec3& d, double r, const Vec3& inverse) 
   return best;
 }
 
+// Central-difference stability of a damped oscillator (Belytschko's bound).
+double mode_step(double omega, double zeta) { return 2.0 * (std::sqrt(1.0 + zeta * zeta) - zeta) / omega; }
+
+double inverse_mass(const ContactSide& s) { return std::isinf(s.mass) ? 0.0 : 1.0 / s.mass; }
+
 }  // namespace
 
 std::vector<ContactSide> contact_sides(const ParticleType& type) {
@@ -78,15 +83,6 @@ std::vector<ContactSide> contact_sides(const ParticleType& type) {
   }
   return sides;
 }
-
-namespace {
-
-// Central-difference stability of a damped oscillator (Belytschko's bound).
-double mode_step(double omega, double zeta) { return 2.0 * (std::sqrt(1.0 + zeta * zeta) - zeta) / omega; }
-
-double inverse_mass(const ContactSide& s) { return std::isinf(s.mass) ? 0.0 : 1.0 / s.mass; }
-
-}  // namespace
 
 ContactModes contact_modes(const ContactSide& i, const ContactSide& j, const PairCoefficients& c,
                            double overlap_ratio) {
