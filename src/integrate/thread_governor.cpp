@@ -1,7 +1,6 @@
 #include "bushel/integrate/thread_governor.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <limits>
 #include <utility>
 

@@ -78,8 +78,8 @@ Region read_domain(const ScenarioNode& d) {
 // while fewer run faster; a number: exactly that many.
 ThreadPolicy read_threads(const ScenarioNode& sim) {
   const auto t = sim.find("threads");
-  if (!t || t->text() == "auto") return {.max = 0, .adaptive = true};
-  if (t->text() == "0") return {.max = 0, .adaptive = true};  // (the former spelling of auto)
+  if (!t || t->text() == "auto" || t->text() == "0")
+    return {.max = 0, .adaptive = true};  // (0: auto's former spelling)
   try {
     return {.max = static_cast<int>(t->integer(1, 1024)), .adaptive = false};
   } catch (const InputError&) {
