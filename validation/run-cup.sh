@@ -20,11 +20,18 @@
 # far is written to validation/results/cup.md (and printed) after each case and after --park,
 # and at the end
 # `bushel report` draws the cases beside the measurements in validation/results/cup/.
+#
+# A series of the same cases run another way: SERIES=NAME and SET="KEY=VALUE ..." (overrides
+# for every case, as in the table below) put its runs in runs/validation/NAME/, its kept
+# results in validation/results/cup-runs-NAME/, its table in validation/results/cup-NAME.md and
+# its report in validation/results/cup-NAME/, e.g.
+#   SERIES=critical-0.5 SET="simulation.time_step=50%critical" validation/run-cup.sh large-5s
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bushel="${BUSHEL:-$root/build/release/bin/bushel}"
-runs="$root/runs/validation"
-kept="$root/validation/results/cup-runs"
+series=${SERIES:+-$SERIES}
+runs="$root/runs/validation${SERIES:+/$SERIES}"
+kept="$root/validation/results/cup-runs$series"
 mkdir -p "$runs" "$kept"
 source "$root/validation/resume.sh"
 
@@ -76,7 +83,7 @@ table() {
     "$runs" "$kept" "$root/data/reference_values.csv" "${all[@]}"
 }
 
-if [ "${1:-}" = --park ]; then park; table > "$root/validation/results/cup.md"; exit 0; fi
+if [ "${1:-}" = --park ]; then park; table > "$root/validation/results/cup$series.md"; exit 0; fi
 cases=("$@")
 [ ${#cases[@]} -gt 0 ] || cases=("${all[@]}")
 
@@ -89,7 +96,7 @@ for c in "${cases[@]}"; do
   fi
   unpark "$c"
   args=(--set parameters.frame_interval=1s)
-  for s in ${sets[$c]}; do
+  for s in ${sets[$c]} ${SET:-}; do
     if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
   done
   rc=0
@@ -103,15 +110,16 @@ for c in "${cases[@]}"; do
   fi
   if [ "${rc:-0}" -ne 0 ]; then
     echo "$c: stopped (exit ${rc}); run the script again to continue" >&2
-    table > "$root/validation/results/cup.md"
+    table > "$root/validation/results/cup$series.md"
     exit "$rc"
   fi
-  table > "$root/validation/results/cup.md"
+  table > "$root/validation/results/cup$series.md"
 done
-table | tee "$root/validation/results/cup.md"
+table | tee "$root/validation/results/cup$series.md"
 # the report of every finished case (as it shows them: from the root)
 dirs=()
 for c in "${all[@]}"; do
-  if finished "$c"; then dirs+=("validation/results/cup-runs/cup-$c"); fi
+  if finished "$c"; then dirs+=("validation/results/cup-runs$series/cup-$c"); fi
 done
-(cd "$root" && "$bushel" report "${dirs[@]}" --out validation/results/cup --title "Calibration cup at full size")
+(cd "$root" && "$bushel" report "${dirs[@]}" --out "validation/results/cup$series" \
+  --title "Calibration cup at full size${SERIES:+ ($SERIES)}")

@@ -2,7 +2,9 @@
 // candidates and the chunks of the contact stage.
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "bushel/core/parallel.hpp"
@@ -12,22 +14,60 @@
 namespace bushel::engine {
 namespace {
 
-// The adaptive skin: it widens when a build comes fewer than this many steps after the last,
-// narrows when more, by this factor a build, between SkinControl::least and most.
-constexpr std::uint64_t skin_widen_below_steps = 40;
-constexpr std::uint64_t skin_narrow_above_steps = 160;
-constexpr double skin_factor = 1.25;
-
 // The adaptive skin trades the list's length (every pair in it is tested every step) against
-// how often it is rebuilt (a build costs a few steps). Where the fastest element crossed half
-// the skin in fewer than 40 steps (a stream falling from a funnel) the skin grows, up to
-// 0.35 d; where it took more than 160 it shrinks, down to 0.11 d (a settled bed). It depends
-// only on step counts, so every thread count follows the same skins.
-void adapt_skin(NeighborList& neighbors, const SkinControl& skin, std::uint64_t steps) {
-  if (!(skin.most > skin.least)) return;
-  const std::uint64_t interval = steps - skin.last_build_step;
-  if (interval < skin_widen_below_steps) neighbors.set_skin(std::min(skin.most, skin_factor * neighbors.skin()));
-  if (interval > skin_narrow_above_steps) neighbors.set_skin(std::max(skin.least, neighbors.skin() / skin_factor));
+// how often it is rebuilt. A build costs about build_cost_per_element pair tests for each
+// element (the grid, the scan of 27 cells, the part candidates) and build_cost_per_pair for
+// each pair it lists (flow-early of the full-size cup, large_5s: 0.37 us an element, 0.03 us
+// a pair, where a step spends 5.2 ns a pair in the list; bench/results/adaptive-skin.md).
+constexpr double build_cost_per_element = 72.0;  // [pair tests]
+constexpr double build_cost_per_pair = 6.0;      // [pair tests]
+// The most the skin changes at one build (the model is fitted to one interval), and the
+// least change worth a build of its own when no element has moved.
+constexpr double skin_step_most = 2.0;
+constexpr double skin_narrow_least = 1.25;
+// Steps without a build after which a wide skin is checked (then again at twice as many).
+constexpr std::uint64_t skin_check_steps = 160;
+
+// The skin [m] that makes a step cheapest, given the list of skin s0 that lasted `interval`
+// steps (docs/engine.md, the adaptive skin). The list's pairs at skin s are modelled as
+// T + E s / s0 (T touching now, E the others) and the steps between builds as interval s / s0
+// (the fastest element crosses half the skin at a steady speed), so a step costs
+//   T + E s / s0 + (c_e N + c_p (T + E s / s0)) s0 / (interval s)   pair tests,
+// least at s = s0 sqrt((c_e N + c_p T) / (interval E)). Only counts enter: every thread count
+// and a restarted run choose the same skins.
+double cheapest_skin(const NeighborList& neighbors, const ContactSums& sums, std::size_t elements,
+                     std::uint64_t interval, const SkinControl& skin) {
+  const double s0 = neighbors.skin();
+  const std::size_t pairs = neighbors.pairs();
+  // (the flags of a list that no contact stage has seen yet are all 1: then none is counted)
+  std::size_t touching = 0;
+  if (sums.active_build == neighbors.builds() && sums.pair_active.size() == pairs) {
+    for (const std::uint8_t a : sums.pair_active) touching += a;
+  }
+  const double others = static_cast<double>(pairs - std::min(touching, pairs));
+  const double build =
+      build_cost_per_element * static_cast<double>(elements) + build_cost_per_pair * static_cast<double>(touching);
+  const double best = others > 0.0 ? s0 * std::sqrt(build / (static_cast<double>(interval) * others))
+                                   : std::numeric_limits<double>::infinity();
+  return std::clamp(best, std::max(skin.least, s0 / skin_step_most), std::min(skin.most, s0 * skin_step_most));
+}
+
+// Sets the skin for a build that motion made due.
+void adapt_skin(World& w, std::uint64_t interval) {
+  if (!(w.skin.most > w.skin.least) || interval == 0) return;
+  w.neighbors.set_skin(cheapest_skin(w.neighbors, w.sums, w.particles.spheres(), interval, w.skin));
+}
+
+// Whether a skin wider than the least, after `elapsed` steps without a build, is worth a build
+// of its own at a narrower one (checked at 160, 320, 640, ... steps: the count is cheap but
+// not free), and that skin.
+bool narrower_skin(const World& w, std::uint64_t elapsed, double& narrower) {
+  if (!(w.skin.most > w.skin.least) || !(w.neighbors.skin() > w.skin.least) || elapsed < skin_check_steps ||
+      elapsed % skin_check_steps != 0 || !std::has_single_bit(elapsed / skin_check_steps)) {
+    return false;
+  }
+  narrower = cheapest_skin(w.neighbors, w.sums, w.particles.spheres(), elapsed, w.skin);
+  return narrower * skin_narrow_least <= w.neighbors.skin();
 }
 
 // Bodies in the order of the cells of a grid (z-major, a cube of 1024 cells a side), so that
@@ -174,7 +214,7 @@ double measure_displacements(const ParticleSystem& ps, const NeighborList& neigh
 }  // namespace
 
 void rebuild_neighbors(World& w, bool adapt) {
-  if (adapt) adapt_skin(w.neighbors, w.skin, w.steps);
+  if (adapt) adapt_skin(w, w.steps - w.skin.last_build_step);
   w.skin.last_build_step = w.steps;
   const int sort_every = w.settings.sort_every;
   if (sort_every > 0 && w.neighbors.builds() % static_cast<std::size_t>(sort_every) == 0) {
@@ -194,11 +234,15 @@ void update_neighbors(World& w) {
     // (not motion: the first build, or elements added since the last)
     moved = due && std::isfinite(worst) && w.neighbors.builds() > 0;
   }
-  // A skin wider than the least is narrowed once 160 steps pass without a build, rather than
-  // at the next build that motion causes, which is rare once the particles rest: a bed that
-  // settles after a flow soon runs at the narrowest skin again.
-  const bool narrow = w.neighbors.skin() > w.skin.least && w.steps - w.skin.last_build_step > skin_narrow_above_steps;
-  if (w.candidates.stale || due || narrow) rebuild_neighbors(w, moved || narrow);
+  // A wide skin is narrowed without waiting for motion to make a build due, which is rare once
+  // the particles rest: a bed that settles after a flow soon runs at the narrowest skin again.
+  if (double narrower = 0.0;
+      !w.candidates.stale && !due && narrower_skin(w, w.steps - w.skin.last_build_step, narrower)) {
+    w.neighbors.set_skin(narrower);
+    rebuild_neighbors(w, false);
+    return;
+  }
+  if (w.candidates.stale || due) rebuild_neighbors(w, moved);
 }
 
 }  // namespace bushel::engine
