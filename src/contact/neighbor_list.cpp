@@ -84,59 +84,87 @@ CellGrid make_grid(std::span<const Vec3> position, std::span<const double> radiu
   return g;
 }
 
-// Per element i, its partners j > i within r_i + r_j + skin (not of its own body), sorted;
-// each element's list is written by one thread only.
-void find_partners(const CellGrid& g, std::span<const Vec3> position, std::span<const double> radius,
-                   std::span<const std::uint32_t> owner, double skin,
-                   std::vector<std::vector<std::uint32_t>>& partners) {
-  const std::size_t n = position.size();
-  partners.resize(n);
-  const auto sn = static_cast<std::ptrdiff_t>(n);
-  // (plain local pointers: the partner lists' stores may alias anything whose address
-  // escaped, so through the vectors every pointer was reloaded on every candidate)
-  const std::uint32_t *const cell_begin = g.start.data(), *const item = g.items.data();
-  const std::uint32_t* const run_owner_of = g.run_owner.data();
-  const double *const xs = g.run_x.data(), *const ys = g.run_y.data(), *const zs = g.run_z.data(),
-                      *const rs = g.run_r.data();
-  const std::int64_t nx = g.nx, ny = g.ny, nz = g.nz;
-#pragma omp parallel if (sn > parallel_threshold)
-  {
-    std::vector<std::uint32_t> buffer;  // this thread's candidates of one element
-#pragma omp for schedule(dynamic, 256)
-    for (std::ptrdiff_t si = 0; si < sn; ++si) {
-      const auto i = static_cast<std::size_t>(si);
-      std::int64_t cx, cy, cz;
-      const Vec3 p = position[i];
-      g.cell_of(p, cx, cy, cz);
-      const double r = radius[i];
-      const std::uint32_t own = owner[i];
-      std::size_t m = 0;
-      // The three cells along x of each of the 9 rows around the element's cell are
-      // neighbours in the cell order, so each row is one contiguous run of elements (9 loops
-      // of about 9 elements rather than 27 of 3: 15 to 20 % faster on a clump bed, and the same
-      // list). Each candidate is written and kept or not without a branch (which way it goes
-      // is not predictable), into room made for the whole row; the sort below puts the
-      // partners in order. The distance is norm2(x_j - x_i), operation for operation.
-      const std::int64_t x0 = std::max<std::int64_t>(cx - 1, 0), x1 = std::min<std::int64_t>(cx + 1, nx - 1);
-      const std::int64_t z1 = std::min<std::int64_t>(cz + 1, nz - 1), y1 = std::min<std::int64_t>(cy + 1, ny - 1);
-      for (std::int64_t z = std::max<std::int64_t>(cz - 1, 0); z <= z1; ++z) {
-        for (std::int64_t y = std::max<std::int64_t>(cy - 1, 0); y <= y1; ++y) {
-          const auto row = static_cast<std::size_t>((z * ny + y) * nx);
-          const std::uint32_t k0 = cell_begin[row + static_cast<std::size_t>(x0)],
-                              k1 = cell_begin[row + static_cast<std::size_t>(x1) + 1];
-          if (buffer.size() < m + (k1 - k0)) buffer.resize(2 * (m + (k1 - k0)));
-          std::uint32_t* const kept = buffer.data();
-          for (std::uint32_t k = k0; k < k1; ++k) {
-            const std::uint32_t j = item[k];
-            const double reach = r + rs[k] + skin;
-            const double ex = xs[k] - p.x, ey = ys[k] - p.y, ez = zs[k] - p.z;
-            kept[m] = j;
-            m += (j > i) & (run_owner_of[k] != own) & (ex * ex + ey * ey + ez * ez < reach * reach) ? 1 : 0;
-          }
+// The scan of the grid for one element's partners, through plain local pointers: the partner
+// lists' stores may alias anything whose address escaped, so through the vectors every pointer
+// was reloaded on every candidate.
+struct GridScan {
+  const std::uint32_t *cell_begin, *item, *run_owner;
+  const double *xs, *ys, *zs, *rs;
+  std::int64_t nx, ny, nz;
+  double skin;
+
+  explicit GridScan(const CellGrid& g, double s)
+      : cell_begin(g.start.data()),
+        item(g.items.data()),
+        run_owner(g.run_owner.data()),
+        xs(g.run_x.data()),
+        ys(g.run_y.data()),
+        zs(g.run_z.data()),
+        rs(g.run_r.data()),
+        nx(g.nx),
+        ny(g.ny),
+        nz(g.nz),
+        skin(s) {}
+
+  // Element i's partners j > i (at p, of radius r and body own) within r + r_j + skin, not of
+  // its body, sorted, into buffer[0, m); returns m.
+  std::size_t partners(const CellGrid& g, std::size_t i, const Vec3& p, double r, std::uint32_t own,
+                       std::vector<std::uint32_t>& buffer) const {
+    std::int64_t cx, cy, cz;
+    g.cell_of(p, cx, cy, cz);
+    std::size_t m = 0;
+    // The three cells along x of each of the 9 rows around the element's cell are neighbours
+    // in the cell order, so each row is one contiguous run of elements (9 loops of about 9
+    // elements rather than 27 of 3: 15 to 20 % faster on a clump bed, and the same list). Each
+    // candidate is written and kept or not without a branch (which way it goes is not
+    // predictable), into room made for the whole row. The distance is norm2(x_j - x_i),
+    // operation for operation.
+    const auto x0 = static_cast<std::size_t>(std::max<std::int64_t>(cx - 1, 0)),
+               x1 = static_cast<std::size_t>(std::min<std::int64_t>(cx + 1, nx - 1));
+    const std::int64_t z1 = std::min<std::int64_t>(cz + 1, nz - 1), y1 = std::min<std::int64_t>(cy + 1, ny - 1);
+    for (std::int64_t z = std::max<std::int64_t>(cz - 1, 0); z <= z1; ++z) {
+      for (std::int64_t y = std::max<std::int64_t>(cy - 1, 0); y <= y1; ++y) {
+        const auto row = static_cast<std::size_t>((z * ny + y) * nx);
+        const std::uint32_t k0 = cell_begin[row + x0], k1 = cell_begin[row + x1 + 1];
+        if (buffer.size() < m + (k1 - k0)) buffer.resize(2 * (m + (k1 - k0)));
+        std::uint32_t* const kept = buffer.data();
+        for (std::uint32_t k = k0; k < k1; ++k) {
+          const std::uint32_t j = item[k];
+          const double reach = r + rs[k] + skin;
+          const double ex = xs[k] - p.x, ey = ys[k] - p.y, ez = zs[k] - p.z;
+          kept[m] = j;
+          m += (j > i) & (run_owner[k] != own) & (ex * ex + ey * ey + ez * ez < reach * reach) ? 1 : 0;
         }
       }
-      std::sort(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(m));
-      partners[i].assign(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(m));
+    }
+    std::sort(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(m));
+    return m;
+  }
+};
+
+// Per element i, its partners j > i within r_i + r_j + skin (not of its own body), sorted,
+// into its block's list; each block is written by one thread only.
+void find_partners(const CellGrid& g, std::span<const Vec3> position, std::span<const double> radius,
+                   std::span<const std::uint32_t> owner, double skin, PartnerBlocks& partners) {
+  const std::size_t n = position.size();
+  const std::size_t n_blocks = (n + partner_block - 1) / partner_block;
+  partners.block.resize(n_blocks);
+  partners.count.resize(n);
+  const GridScan scan(g, skin);
+  const auto sb = static_cast<std::ptrdiff_t>(n_blocks);
+#pragma omp parallel if (static_cast <std::ptrdiff_t>(n) > parallel_threshold)
+  {
+    std::vector<std::uint32_t> buffer;  // this thread's candidates of one element
+#pragma omp for schedule(dynamic, 1)
+    for (std::ptrdiff_t b = 0; b < sb; ++b) {
+      std::vector<std::uint32_t>& list = partners.block[static_cast<std::size_t>(b)];
+      list.clear();
+      const std::size_t i_end = std::min(n, (static_cast<std::size_t>(b) + 1) * partner_block);
+      for (std::size_t i = static_cast<std::size_t>(b) * partner_block; i < i_end; ++i) {
+        const std::size_t m = scan.partners(g, i, position[i], radius[i], owner[i], buffer);
+        list.insert(list.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(m));
+        partners.count[i] = static_cast<std::uint32_t>(m);
+      }
     }
   }
 }
@@ -159,16 +187,18 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
   find_partners(make_grid(position, radius, owner, skin_), position, radius, owner, skin_, partners_);
   // Flattened in element order, with each pair's stable identity.
   std::vector<std::uint32_t> start(n + 1, 0);  // the new list's pairs of element i: [start[i], start[i + 1])
-  for (std::size_t i = 0; i < n; ++i) start[i + 1] = start[i] + static_cast<std::uint32_t>(partners_[i].size());
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] = start[i] + partners_.count[i];
   const std::size_t n_pairs = start[n];
   std::vector<std::uint32_t> first(n_pairs), second(n_pairs);
   std::vector<std::uint64_t> key(n_pairs);
   for (std::size_t i = 0; i < n; ++i) {
-    std::size_t p = start[i];
-    for (const std::uint32_t j : partners_[i]) {
+    const std::uint32_t* from =
+        partners_.block[i / partner_block].data() + (start[i] - start[i / partner_block * partner_block]);
+    for (std::size_t p = start[i]; p < start[i + 1]; ++p) {
+      const std::uint32_t j = *from++;
       first[p] = static_cast<std::uint32_t>(i);
       second[p] = j;
-      key[p++] = pair_key(stable_id[i], stable_id[j]);
+      key[p] = pair_key(stable_id[i], stable_id[j]);
     }
   }
   std::vector<double> history(n_pairs * static_cast<std::size_t>(history_size_), 0.0);

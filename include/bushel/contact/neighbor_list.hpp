@@ -17,6 +17,14 @@
 
 namespace bushel {
 
+/// A build's scratch: the partners of each element, in one list per block of partner_block
+/// elements (fewer allocations than one per element), and their counts.
+inline constexpr std::size_t partner_block = 256;
+struct PartnerBlocks {
+  std::vector<std::vector<std::uint32_t>> block;  ///< [block]: its elements' partners, in element order
+  std::vector<std::uint32_t> count;               ///< [element]: its partners
+};
+
 class NeighborList {
  public:
   /// `skin` [m] > 0; `history_size` values of history per pair.
@@ -88,7 +96,7 @@ class NeighborList {
   std::vector<double> history_;
   std::vector<std::uint32_t> first_start_;               // CSR over first elements
   std::vector<std::uint32_t> second_start_, as_second_;  // CSR of pair indices by second element
-  std::vector<std::vector<std::uint32_t>> partners_;     // build scratch: candidates of each element
+  PartnerBlocks partners_;                               // build scratch
   std::vector<std::uint32_t> ids_at_build_;              // the elements' stable ids at the last build (not saved)
 };
 
