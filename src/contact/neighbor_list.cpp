@@ -88,13 +88,15 @@ CellGrid make_grid(std::span<const Vec3> position, std::span<const double> radiu
 // lists' stores may alias anything whose address escaped, so through the vectors every pointer
 // was reloaded on every candidate.
 struct GridScan {
+  const CellGrid& grid;
   const std::uint32_t *cell_begin, *item, *run_owner;
   const double *xs, *ys, *zs, *rs;
   std::int64_t nx, ny, nz;
   double skin;
 
   explicit GridScan(const CellGrid& g, double s)
-      : cell_begin(g.start.data()),
+      : grid(g),
+        cell_begin(g.start.data()),
         item(g.items.data()),
         run_owner(g.run_owner.data()),
         xs(g.run_x.data()),
@@ -108,10 +110,10 @@ struct GridScan {
 
   // Element i's partners j > i (at p, of radius r and body own) within r + r_j + skin, not of
   // its body, sorted, into buffer[0, m); returns m.
-  std::size_t partners(const CellGrid& g, std::size_t i, const Vec3& p, double r, std::uint32_t own,
+  std::size_t partners(std::size_t i, const Vec3& p, double r, std::uint32_t own,
                        std::vector<std::uint32_t>& buffer) const {
     std::int64_t cx, cy, cz;
-    g.cell_of(p, cx, cy, cz);
+    grid.cell_of(p, cx, cy, cz);
     std::size_t m = 0;
     // The three cells along x of each of the 9 rows around the element's cell are neighbours
     // in the cell order, so each row is one contiguous run of elements (9 loops of about 9
@@ -151,8 +153,8 @@ void find_partners(const CellGrid& g, std::span<const Vec3> position, std::span<
   partners.block.resize(n_blocks);
   partners.count.resize(n);
   const GridScan scan(g, skin);
-  const auto sb = static_cast<std::ptrdiff_t>(n_blocks);
-#pragma omp parallel if (static_cast <std::ptrdiff_t>(n) > parallel_threshold)
+  const auto sn = static_cast<std::ptrdiff_t>(n), sb = static_cast<std::ptrdiff_t>(n_blocks);
+#pragma omp parallel if (sn > parallel_threshold)
   {
     std::vector<std::uint32_t> buffer;  // this thread's candidates of one element
 #pragma omp for schedule(dynamic, 1)
@@ -161,7 +163,7 @@ void find_partners(const CellGrid& g, std::span<const Vec3> position, std::span<
       list.clear();
       const std::size_t i_end = std::min(n, (static_cast<std::size_t>(b) + 1) * partner_block);
       for (std::size_t i = static_cast<std::size_t>(b) * partner_block; i < i_end; ++i) {
-        const std::size_t m = scan.partners(g, i, position[i], radius[i], owner[i], buffer);
+        const std::size_t m = scan.partners(i, position[i], radius[i], owner[i], buffer);
         list.insert(list.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(m));
         partners.count[i] = static_cast<std::uint32_t>(m);
       }
@@ -191,14 +193,15 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
   const std::size_t n_pairs = start[n];
   std::vector<std::uint32_t> first(n_pairs), second(n_pairs);
   std::vector<std::uint64_t> key(n_pairs);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t* from =
-        partners_.block[i / partner_block].data() + (start[i] - start[i / partner_block * partner_block]);
-    for (std::size_t p = start[i]; p < start[i + 1]; ++p) {
-      const std::uint32_t j = *from++;
-      first[p] = static_cast<std::uint32_t>(i);
-      second[p] = j;
-      key[p] = pair_key(stable_id[i], stable_id[j]);
+  for (std::size_t b = 0; b < partners_.block.size(); ++b) {
+    const std::uint32_t* from = partners_.block[b].data();  // the block's partners, in element order
+    for (std::size_t i = b * partner_block; i < std::min(n, (b + 1) * partner_block); ++i) {
+      for (std::size_t p = start[i]; p < start[i + 1]; ++p) {
+        const std::uint32_t j = *from++;
+        first[p] = static_cast<std::uint32_t>(i);
+        second[p] = j;
+        key[p] = pair_key(stable_id[i], stable_id[j]);
+      }
     }
   }
   std::vector<double> history(n_pairs * static_cast<std::size_t>(history_size_), 0.0);

@@ -16,7 +16,7 @@ namespace {
 
 // The adaptive skin trades the list's length (every pair in it is tested every step) against
 // how often it is rebuilt. A build costs about build_cost_per_element pair tests for each
-// element (the grid, the scan of 27 cells, the part candidates) and build_cost_per_pair for
+// element (the grid, the scan of the cells around it, the part candidates) and build_cost_per_pair for
 // each pair it lists (flow-early of the full-size cup, large_5s: 0.37 us an element, 0.03 us
 // a pair, where a step spends 5.2 ns a pair in the list; bench/results/adaptive-skin.md).
 constexpr double build_cost_per_element = 72.0;  // [pair tests]
@@ -62,8 +62,8 @@ void adapt_skin(World& w, std::uint64_t interval) {
 // of its own at a narrower one (checked at 160, 320, 640, ... steps: the count is cheap but
 // not free), and that skin.
 bool narrower_skin(const World& w, std::uint64_t elapsed, double& narrower) {
-  if (!(w.skin.most > w.skin.least) || !(w.neighbors.skin() > w.skin.least) || elapsed < skin_check_steps ||
-      elapsed % skin_check_steps != 0 || !std::has_single_bit(elapsed / skin_check_steps)) {
+  if (!(w.skin.most > w.skin.least) || !(w.neighbors.skin() > w.skin.least) || elapsed % skin_check_steps != 0 ||
+      !std::has_single_bit(elapsed / skin_check_steps)) {  // (0 has no single bit)
     return false;
   }
   narrower = cheapest_skin(w.neighbors, w.sums, w.particles.spheres(), elapsed, w.skin);
