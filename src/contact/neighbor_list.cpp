@@ -135,7 +135,7 @@ struct GridScan {
           const double reach = r + rs[k] + skin;
           const double ex = xs[k] - p.x, ey = ys[k] - p.y, ez = zs[k] - p.z;
           kept[m] = j;
-          m += (j > i) & (run_owner[k] != own) & (ex * ex + ey * ey + ez * ez < reach * reach) ? 1 : 0;
+          m += ((j > i) & (run_owner[k] != own) & (ex * ex + ey * ey + ez * ez < reach * reach)) ? 1 : 0;
         }
       }
     }
@@ -153,8 +153,8 @@ void find_partners(const CellGrid& g, std::span<const Vec3> position, std::span<
   partners.block.resize(n_blocks);
   partners.count.resize(n);
   const GridScan scan(g, skin);
-  const auto sn = static_cast<std::ptrdiff_t>(n), sb = static_cast<std::ptrdiff_t>(n_blocks);
-#pragma omp parallel if (sn > parallel_threshold)
+  const auto sb = static_cast<std::ptrdiff_t>(n_blocks);
+#pragma omp parallel if (static_cast<std::ptrdiff_t>(n) > parallel_threshold)
   {
     std::vector<std::uint32_t> buffer;  // this thread's candidates of one element
 #pragma omp for schedule(dynamic, 1)
