@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include <map>
 #include <random>
@@ -57,6 +58,51 @@ TEST(NeighborList, MatchesBruteForce) {
     }
     EXPECT_EQ(found.size(), list.pairs()) << "duplicate pairs";
     EXPECT_EQ(found, brute_force(c, 0.4e-3));
+  }
+}
+
+// Pairs a hair inside and outside the reach, on cell boundaries: the scan skips cells and rows
+// of cells out of an element's reach, which must never cost a pair to rounding.
+TEST(NeighborList, MatchesBruteForceAtTheEdgeOfReach) {
+  const double r = 1e-3, skin = 0.4e-3, reach = 2 * r + skin;
+  for (const double spacing : {reach * (1 - 1e-12), reach * (1 + 1e-12), reach / std::sqrt(2.0) * (1 - 1e-12),
+                               reach / std::sqrt(3.0) * (1 - 1e-12), 0.25 * reach}) {
+    Cloud c;
+    for (int x = 0; x < 7; ++x) {
+      for (int y = 0; y < 7; ++y) {
+        for (int z = 0; z < 7; ++z) {
+          c.position.push_back({x * spacing, y * spacing, z * spacing});
+          c.radius.push_back(r);
+          c.owner.push_back(static_cast<std::uint32_t>(c.owner.size()));
+          c.id.push_back(static_cast<std::uint32_t>(c.id.size()));
+        }
+      }
+    }
+    NeighborList list(skin, 3);
+    list.build(c.position, c.radius, c.owner, c.id);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+    for (std::size_t p = 0; p < list.pairs(); ++p) found.insert({list.first(p), list.second(p)});
+    EXPECT_EQ(found, brute_force(c, skin)) << "spacing " << spacing;
+  }
+}
+
+// A partner a hair inside the reach and just past a cell boundary that the reach itself ends a
+// hair before (the grid starts at the lowest element and its cells are half a reach).
+TEST(NeighborList, FindsAPartnerJustPastACellBoundary) {
+  const double r = 1e-3, skin = 0.4e-3, reach = 2 * r + skin, delta = 1e-10 * reach;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto at = [&](double d) { return Vec3{axis == 0 ? d : 0.0, axis == 1 ? d : 0.0, axis == 2 ? d : 0.0}; };
+    Cloud c;
+    c.position = {at(0.0), at(delta), at(delta + reach * (1 - 1e-12))};
+    c.radius = {r, r, r};
+    c.owner = {0, 1, 2};
+    c.id = {0, 1, 2};
+    ASSERT_EQ(brute_force(c, skin).count({1, 2}), 1u);
+    NeighborList list(skin, 3);
+    list.build(c.position, c.radius, c.owner, c.id);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+    for (std::size_t p = 0; p < list.pairs(); ++p) found.insert({list.first(p), list.second(p)});
+    EXPECT_EQ(found, brute_force(c, skin)) << "axis " << axis;
   }
 }
 
