@@ -15,53 +15,35 @@ std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
   return a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
 }
 
-// The grid's cells are this fraction of the longest reach 2 r_max + skin: each element scans
-// the cells that its own reach r_i + r_max + skin overlaps, rows of cells out of that reach
-// left out. Half-reach cells scan 2.5^3 reach^3 at most instead of the 27 reach^3 of cells a
-// reach wide (fewer candidates by about half, on a clump bed and in the cup's flow: the same
-// list).
-constexpr double cell_per_reach = 0.5;
-
-// A uniform grid over the elements' bounding box, with the elements of each cell listed
-// (CSR), and those elements in cell order as plain arrays, so that the scan reads each row
-// of cells contiguously instead of gathering positions, radii and owners element by element.
+// A uniform grid of cells of side 2 r_max + skin over the elements' bounding box, with the
+// elements of each cell listed (CSR), and those elements in cell order as plain arrays, so
+// that the scan reads each row of cells contiguously instead of gathering positions, radii and
+// owners element by element.
 struct CellGrid {
   Vec3 lo{INFINITY, INFINITY, INFINITY};
-  double cell = 0.0;   // side [m]
-  double r_max = 0.0;  // the largest element radius [m]
+  double cell = 0.0;
   std::int64_t nx = 1, ny = 1, nz = 1;
   std::vector<std::uint32_t> start, items;  // cell c holds items[start[c], start[c + 1])
   std::vector<double> run_x, run_y, run_z, run_r;
   std::vector<std::uint32_t> run_owner;
 
-  // The cell index along one axis of coordinate x (from the grid's corner lo), clamped to
-  // [0, n).
-  // (truncation is the floor for t > 0, and NaN goes to 0)
-  std::int64_t index(double x, double lo_x, std::int64_t n) const {
-    const double t = (x - lo_x) / cell;
-    return t > 0.0 ? static_cast<std::int64_t>(std::min(t, static_cast<double>(n - 1))) : 0;
-  }
   void cell_of(const Vec3& p, std::int64_t& cx, std::int64_t& cy, std::int64_t& cz) const {
-    cx = index(p.x, lo.x, nx), cy = index(p.y, lo.y, ny), cz = index(p.z, lo.z, nz);
-  }
-  // The distance [m] from coordinate x to cell k's slab along one axis (the end cells reach
-  // to infinity, as clamping puts anything beyond them in them).
-  double gap(double x, double lo_x, std::int64_t k, std::int64_t n) const {
-    const double below = k > 0 ? lo_x + static_cast<double>(k) * cell - x : -HUGE_VAL;
-    const double above = k < n - 1 ? x - (lo_x + static_cast<double>(k + 1) * cell) : -HUGE_VAL;
-    return std::max({0.0, below, above});
+    cx = std::min(nx - 1, static_cast<std::int64_t>((p.x - lo.x) / cell));
+    cy = std::min(ny - 1, static_cast<std::int64_t>((p.y - lo.y) / cell));
+    cz = std::min(nz - 1, static_cast<std::int64_t>((p.z - lo.z) / cell));
   }
 };
 
 void size_grid(CellGrid& g, std::span<const Vec3> position, std::span<const double> radius, double skin) {
   const std::size_t n = position.size();
   Vec3 hi{-INFINITY, -INFINITY, -INFINITY};
+  double r_max = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     g.lo = min(g.lo, position[i]);
     hi = max(hi, position[i]);
-    g.r_max = std::max(g.r_max, radius[i]);
+    r_max = std::max(r_max, radius[i]);
   }
-  g.cell = cell_per_reach * (2.0 * g.r_max + skin);
+  g.cell = 2.0 * r_max + skin;
   auto cells_along = [&](double extent) {
     return std::max<std::int64_t>(1, static_cast<std::int64_t>(extent / g.cell) + 1);
   };
@@ -130,25 +112,20 @@ struct GridScan {
   // its body, sorted, into buffer[0, m); returns m.
   std::size_t partners(std::size_t i, const Vec3& p, double r, std::uint32_t own,
                        std::vector<std::uint32_t>& buffer) const {
-    // The cells within the element's longest reach, with a margin far above rounding (so that
-    // no partner is missed for the last bit of a cell boundary).
-    const double reach_most = (r + grid.r_max + skin) * (1.0 + 1e-9);
-    const auto x0 = static_cast<std::size_t>(grid.index(p.x - reach_most, grid.lo.x, nx)),
-               x1 = static_cast<std::size_t>(grid.index(p.x + reach_most, grid.lo.x, nx));
-    const std::int64_t y0 = grid.index(p.y - reach_most, grid.lo.y, ny),
-                       y1 = grid.index(p.y + reach_most, grid.lo.y, ny);
-    const std::int64_t z0 = grid.index(p.z - reach_most, grid.lo.z, nz),
-                       z1 = grid.index(p.z + reach_most, grid.lo.z, nz);
+    std::int64_t cx, cy, cz;
+    grid.cell_of(p, cx, cy, cz);
     std::size_t m = 0;
-    // The cells along x of a row are neighbours in the cell order, so each row is one
-    // contiguous run of elements. Each candidate is written and kept or not without a branch
-    // (which way it goes is not predictable), into room made for the whole row. The distance
-    // is norm2(x_j - x_i), operation for operation.
-    for (std::int64_t z = z0; z <= z1; ++z) {
-      const double gz = grid.gap(p.z, grid.lo.z, z, nz);
-      for (std::int64_t y = y0; y <= y1; ++y) {
-        const double gy = grid.gap(p.y, grid.lo.y, y, ny);
-        if (gy * gy + gz * gz > reach_most * reach_most) continue;  // the row is out of reach
+    // The three cells along x of each of the 9 rows around the element's cell are neighbours
+    // in the cell order, so each row is one contiguous run of elements (9 loops of about 9
+    // elements rather than 27 of 3: 15 to 20 % faster on a clump bed, and the same list). Each
+    // candidate is written and kept or not without a branch (which way it goes is not
+    // predictable), into room made for the whole row. The distance is norm2(x_j - x_i),
+    // operation for operation.
+    const auto x0 = static_cast<std::size_t>(std::max<std::int64_t>(cx - 1, 0)),
+               x1 = static_cast<std::size_t>(std::min<std::int64_t>(cx + 1, nx - 1));
+    const std::int64_t z1 = std::min<std::int64_t>(cz + 1, nz - 1), y1 = std::min<std::int64_t>(cy + 1, ny - 1);
+    for (std::int64_t z = std::max<std::int64_t>(cz - 1, 0); z <= z1; ++z) {
+      for (std::int64_t y = std::max<std::int64_t>(cy - 1, 0); y <= y1; ++y) {
         const auto row = static_cast<std::size_t>((z * ny + y) * nx);
         const std::uint32_t k0 = cell_begin[row + x0], k1 = cell_begin[row + x1 + 1];
         if (buffer.size() < m + (k1 - k0)) buffer.resize(2 * (m + (k1 - k0)));
@@ -177,7 +154,7 @@ void find_partners(const CellGrid& g, std::span<const Vec3> position, std::span<
   partners.count.resize(n);
   const GridScan scan(g, skin);
   const auto sb = static_cast<std::ptrdiff_t>(n_blocks);
-#pragma omp parallel if (static_cast <std::ptrdiff_t>(n) > parallel_threshold)
+#pragma omp parallel if (static_cast<std::ptrdiff_t>(n) > parallel_threshold)
   {
     std::vector<std::uint32_t> buffer;  // this thread's candidates of one element
 #pragma omp for schedule(dynamic, 1)
