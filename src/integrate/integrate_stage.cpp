@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "bushel/core/parallel.hpp"
 #include "bushel/integrate/rigid_rotation.hpp"
@@ -66,15 +67,16 @@ Displacements drift(ParticleSystem& ps, const NeighborList& neighbors, std::vect
   const std::size_t nb = ps.bodies();
   constexpr std::size_t block = RotationBatch::capacity;
   const auto blocks = static_cast<std::ptrdiff_t>((nb + block - 1) / block);
-  double moved2 = 0.0;  // largest squared displacement of an element since the last build [m2]
-#pragma omp parallel for schedule(static) reduction(max : moved2) if (nb > parallel_threshold)
+  double excess = -std::numeric_limits<double>::infinity();  // the most an element has moved past its margin
+                                                             // (NeighborList::excess2) [m2]
+#pragma omp parallel for schedule(static) reduction(max : excess) if (nb > parallel_threshold)
   for (std::ptrdiff_t k0 = 0; k0 < blocks; ++k0) {
-    // The elements are measured against the neighbour list's skin while at hand (declared in
-    // the loop so that it updates this thread's copy of moved2).
+    // The elements are measured against their margins in the neighbour list while at hand
+    // (declared in the loop so that it updates this thread's copy of excess).
     const auto measure = [&](std::uint32_t s, const Vec3& p) {
       const double d2 = neighbors.displacement2(s, p);
       moved2_of[s] = d2;  // bounds the part-face distances (find_part_candidates)
-      moved2 = std::max(moved2, d2);
+      excess = std::max(excess, neighbors.excess2(s, d2));
     };
     // The block's clumps with anisotropic inertia rotate together (rotation_batch.hpp); each
     // body's result does not depend on which others share its batch.
@@ -113,7 +115,7 @@ Displacements drift(ParticleSystem& ps, const NeighborList& neighbors, std::vect
       ps.place_elements(b, r, measure);
     }
   }
-  return neighbors.needs_rebuild(moved2) ? Displacements::past_skin : Displacements::within_skin;
+  return neighbors.needs_rebuild(excess) ? Displacements::past_skin : Displacements::within_skin;
 }
 
 }  // namespace bushel::engine

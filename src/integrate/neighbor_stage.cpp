@@ -28,6 +28,43 @@ constexpr double skin_narrow_least = 1.25;
 // Steps without a build after which a wide skin is checked (then again at twice as many).
 constexpr std::uint64_t skin_check_steps = 160;
 
+// Margins per element (docs/engine.md): an element faster than wide_speed_least times the
+// speed of the wide_quantile-th element gets a margin as many times half the skin as it is
+// faster than that (at most wide_margin_most times), so that it takes as long to cross it as
+// the others take to cross theirs: the few grains falling fast no longer set how often the
+// whole list is rebuilt.
+constexpr double wide_quantile = 0.98;
+constexpr double wide_speed_least = 2.0;
+constexpr double wide_margin_most = 4.0;
+
+// The speed of each element at most [m/s]: its body's speed and its turning about the centre.
+std::vector<double> element_speeds(const ParticleSystem& ps) {
+  std::vector<double> speed(ps.spheres());
+  for (std::size_t e = 0; e < speed.size(); ++e) {
+    const std::uint32_t b = ps.owner[e];
+    speed[e] = norm(ps.velocity[b]) + norm(ps.angular_velocity[b]) * norm(ps.sphere_position[e] - ps.position[b]);
+    if (std::isnan(speed[e]))
+      speed[e] = std::numeric_limits<double>::infinity();  // (a run gone wrong, which its guards stop: kept sortable)
+  }
+  return speed;
+}
+
+// Each element's margin [m] for a build at `skin`.
+std::vector<double> element_margins(const ParticleSystem& ps, double skin) {
+  const double narrow = 0.5 * skin;
+  std::vector<double> margin = element_speeds(ps);
+  if (margin.empty()) return margin;
+  std::vector<double> sorted = margin;
+  const auto q = static_cast<std::ptrdiff_t>(wide_quantile * static_cast<double>(sorted.size() - 1));
+  std::nth_element(sorted.begin(), sorted.begin() + q, sorted.end());
+  const double typical = sorted[static_cast<std::size_t>(q)];  // [m/s]
+  for (double& m : margin) {
+    const double times = typical > 0.0 ? m / typical : (m > 0.0 ? wide_margin_most : 1.0);
+    m = times >= wide_speed_least ? narrow * std::min(times, wide_margin_most) : narrow;
+  }
+  return margin;
+}
+
 // The skin [m] that makes a step cheapest, given the list of skin s0 that lasted `interval`
 // steps (docs/engine.md, the adaptive skin). The list's pairs at skin s are modelled as
 // T + E s / s0 (T touching now, E the others) and the steps between builds as interval s / s0
@@ -138,9 +175,9 @@ struct OldCandidates {
   }
 };
 
-// The sphere-part candidates: no element moves more than half the skin between builds, and a
-// build is due when a part has moved half the skin (move_parts), so a sphere further than the
-// skin from a face cannot reach it before the next build.
+// The sphere-part candidates: no element moves more than its margin between builds, and a
+// build is due when a part has moved half the skin (move_parts), so a sphere further than its
+// margin and half the skin from a face cannot reach it before the next build.
 void find_part_candidates(const ParticleSystem& ps, std::span<const Part> parts, std::span<PartGeometry> geometry,
                           const NeighborList& neighbors, PartCandidates& pc, std::vector<double>& element_moved2) {
   const std::size_t n_s = ps.spheres();
@@ -157,7 +194,8 @@ void find_part_candidates(const ParticleSystem& ps, std::span<const Part> parts,
   pc.history.clear();
   std::vector<std::uint32_t> near;
   for (std::size_t s = 0; s < n_s; ++s) {
-    const double reach = ps.radius[s] + neighbors.skin();
+    // (with the margin half the skin, r + skin exactly)
+    const double reach = ps.radius[s] + (neighbors.margin(s) + 0.5 * neighbors.skin());
     for (std::size_t w = 0; w < parts.size(); ++w) {
       if (!parts[w].enabled) continue;
       const Vec3 p = transpose_times(geometry[w].rotation, ps.sphere_position[s] - parts[w].pose.position);
@@ -195,18 +233,19 @@ void split_into_chunks(std::size_t n_s, const NeighborList& neighbors, const Par
   }
 }
 
-// The largest squared displacement of an element since the last build [m2], each element's
-// recorded in moved2 (for the part-face bound): after changes from outside, which the drift
-// did not measure. An element added since the build has an infinite displacement.
+// The most an element has moved past its margin since the last build (NeighborList::excess2)
+// [m2], each element's squared displacement recorded in moved2 (for the part-face bound):
+// after changes from outside, which the drift did not measure. An element added since the
+// build has an infinite one.
 double measure_displacements(const ParticleSystem& ps, const NeighborList& neighbors, std::vector<double>& moved2) {
   const auto& x = ps.sphere_position;
   const auto n = static_cast<std::ptrdiff_t>(x.size());
-  double worst = 0.0;
+  double worst = -std::numeric_limits<double>::infinity();
 #pragma omp parallel for schedule(static) reduction(max : worst) if (n > parallel_threshold)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const auto e = static_cast<std::size_t>(i);
     moved2[e] = neighbors.displacement2(e, x[e]);
-    worst = std::max(worst, moved2[e]);
+    worst = std::max(worst, neighbors.excess2(e, moved2[e]));
   }
   return worst;
 }
@@ -221,7 +260,7 @@ void rebuild_neighbors(World& w, bool adapt) {
     spatial_sort(w.particles, w.neighbors.skin());
   }
   const auto& ps = w.particles;
-  w.neighbors.build(ps.sphere_position, ps.radius, ps.owner, ps.sphere_id);
+  w.neighbors.build(ps.sphere_position, ps.radius, ps.owner, ps.sphere_id, element_margins(ps, w.neighbors.skin()));
   find_part_candidates(ps, w.parts, w.geometry, w.neighbors, w.candidates, w.element_moved2);
   split_into_chunks(ps.spheres(), w.neighbors, w.candidates, w.sums.chunk_start);
 }

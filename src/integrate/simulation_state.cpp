@@ -105,7 +105,7 @@ void get_member(io::BinaryReader& in, T& m) {
 
 // The engine's sections of a checkpoint and their versions: each is written and read here by
 // the part of the World it holds.
-constexpr std::uint32_t parts_version = 1, particles_version = 1, neighbors_version = 1, contacts_version = 1,
+constexpr std::uint32_t parts_version = 1, particles_version = 1, neighbors_version = 2, contacts_version = 1,
                         diagnostics_version = 1;
 
 void Simulation::save_state(io::BinaryWriter& out) const {
@@ -135,7 +135,11 @@ void Simulation::load_state(const io::SectionTable& in) {
   const std::vector<Vec3> placed = w.particles.sphere_position;
   prepare_steps();
   w.particles.sphere_position = placed;
-  in.read("engine.neighbors", neighbors_version, true, [&](io::BinaryReader& b) { w.neighbors.load(b); });
+  {
+    io::SectionTable::Section s = in.get("engine.neighbors", neighbors_version);
+    w.neighbors.load(s.body, s.version);
+    io::SectionTable::expect_end(s.body, "engine.neighbors");
+  }
   in.read("engine.contacts", contacts_version, true,
           [&](io::BinaryReader& b) { each_saved_member(w, [&](auto& m) { get_member(b, m); }); });
   // Without its diagnostics a state still continues (the unbalanced force ratio is unknown

@@ -7,6 +7,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -44,6 +45,33 @@ std::set<std::pair<std::uint32_t, std::uint32_t>> brute_force(const Cloud& c, do
     }
   }
   return s;
+}
+
+// Pairs within r_i + r_j + m_i + m_j, margins m per element.
+std::set<std::pair<std::uint32_t, std::uint32_t>> brute_force(const Cloud& c, const std::vector<double>& margin) {
+  std::set<std::pair<std::uint32_t, std::uint32_t>> s;
+  for (std::uint32_t i = 0; i < c.position.size(); ++i) {
+    for (std::uint32_t j = i + 1; j < c.position.size(); ++j) {
+      const double reach = c.radius[i] + c.radius[j] + (margin[i] + margin[j]);
+      if (c.owner[i] != c.owner[j] && norm2(c.position[i] - c.position[j]) < reach * reach) s.insert({i, j});
+    }
+  }
+  return s;
+}
+
+std::set<std::pair<std::uint32_t, std::uint32_t>> listed(const NeighborList& list) {
+  std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+  for (std::size_t p = 0; p < list.pairs(); ++p) found.insert({list.first(p), list.second(p)});
+  return found;
+}
+
+// As the simulation asks: whether any element has moved past its margin since the build.
+bool rebuild_due(const NeighborList& list, const Cloud& c) {
+  double worst = -1.0;
+  for (std::size_t k = 0; k < c.position.size(); ++k) {
+    worst = std::max(worst, list.excess2(k, list.displacement2(k, c.position[k])));
+  }
+  return list.needs_rebuild(worst);
 }
 
 TEST(NeighborList, MatchesBruteForce) {
@@ -104,6 +132,85 @@ TEST(NeighborList, FindsAPartnerJustPastACellBoundary) {
     for (std::size_t p = 0; p < list.pairs(); ++p) found.insert({list.first(p), list.second(p)});
     EXPECT_EQ(found, brute_force(c, skin)) << "axis " << axis;
   }
+}
+
+// A few elements with wide margins (up to four times half the skin) among narrow ones: the
+// same pairs as brute force, each once, grouped by first element and sorted.
+TEST(NeighborList, MarginsPerElementMatchBruteForce) {
+  const double skin = 0.4e-3;
+  for (const std::uint64_t seed : {1u, 2u, 3u}) {
+    const Cloud c = random_cloud(900, seed);
+    std::mt19937_64 rng(seed + 10);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<double> margin(c.position.size(), 0.5 * skin);
+    for (double& m : margin) {
+      if (u(rng) < 0.05) m *= 1.0 + 3.0 * u(rng);
+    }
+    NeighborList list(skin, 3);
+    list.build(c.position, c.radius, c.owner, c.id, margin);
+    for (std::size_t p = 1; p < list.pairs(); ++p) {
+      EXPECT_TRUE(list.first(p - 1) < list.first(p) ||
+                  (list.first(p - 1) == list.first(p) && list.second(p - 1) < list.second(p)));
+    }
+    for (std::size_t i = 0; i < c.position.size(); ++i) {
+      for (std::size_t p = list.begin_of(i); p < list.begin_of(i + 1); ++p) EXPECT_EQ(list.first(p), i);
+    }
+    const auto found = listed(list);
+    EXPECT_EQ(found.size(), list.pairs()) << "duplicate pairs";
+    EXPECT_EQ(found, brute_force(c, margin));
+    EXPECT_GT(found.size(), brute_force(c, skin).size());
+  }
+}
+
+// Each element may move as far as its own margin before a rebuild is due.
+TEST(NeighborList, RebuildOnlyAfterAnElementPassesItsMargin) {
+  Cloud c = random_cloud(50, 5);
+  NeighborList list(1e-3, 0);
+  std::vector<double> margin(c.position.size(), 0.5e-3);
+  margin[17] = 2e-3;
+  list.build(c.position, c.radius, c.owner, c.id, margin);
+  EXPECT_DOUBLE_EQ(list.margin(17), 2e-3);
+  c.position[17].x += 1.99e-3;
+  EXPECT_FALSE(rebuild_due(list, c));
+  c.position[17].x += 0.02e-3;
+  EXPECT_TRUE(rebuild_due(list, c));
+  c.position[17].x -= 0.02e-3;
+  c.position[18].x += 0.51e-3;
+  EXPECT_TRUE(rebuild_due(list, c));
+}
+
+// A list saved with margins comes back with them; one of the first format (no margins) with
+// half the skin for every element.
+TEST(NeighborList, MarginsSurviveACheckpoint) {
+  const Cloud c = random_cloud(300, 8);
+  std::vector<double> margin(c.position.size(), 0.2e-3);
+  margin[5] = 0.7e-3;
+  NeighborList list(0.4e-3, 3);
+  list.build(c.position, c.radius, c.owner, c.id, margin);
+  io::BinaryWriter out;
+  list.save(out);
+  NeighborList back(1.0, 0);
+  io::BinaryReader in(out.bytes(), "list");
+  back.load(in, 2);
+  EXPECT_TRUE(in.done());
+  EXPECT_EQ(listed(back), listed(list));
+  EXPECT_DOUBLE_EQ(back.margin(5), 0.7e-3);
+  EXPECT_DOUBLE_EQ(back.margin(6), 0.2e-3);
+  // The first format: the same fields without the margins (skin, history size, builds and
+  // the reference positions come before them).
+  NeighborList uniform(0.4e-3, 3);
+  uniform.build(c.position, c.radius, c.owner, c.id);
+  io::BinaryWriter v2;
+  uniform.save(v2);
+  const std::size_t at = sizeof(double) + sizeof(int) + 2 * sizeof(std::uint64_t) + c.position.size() * sizeof(Vec3);
+  std::string v1 = v2.bytes();
+  v1.erase(at, sizeof(std::uint64_t) + c.position.size() * sizeof(double));
+  NeighborList old(1.0, 0);
+  io::BinaryReader in1(v1, "list");
+  old.load(in1, 1);
+  EXPECT_TRUE(in1.done());
+  EXPECT_EQ(listed(old), listed(uniform));
+  for (std::size_t e = 0; e < c.position.size(); ++e) ASSERT_EQ(old.margin(e), 0.2e-3);
 }
 
 TEST(NeighborList, PairsGroupedByFirstAndIndexedBySecond) {
@@ -182,7 +289,7 @@ TEST(NeighborList, HistoryMergedInPlaceAsByLookup) {
   merged.save(out);
   NeighborList looked_up(1.0, 0);  // restored: it does not know the ids it was built with
   io::BinaryReader in(out.bytes(), "list");
-  looked_up.load(in);
+  looked_up.load(in, 2);
   // Move every element by up to a skin, so that pairs both leave the list and join it.
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(-0.4e-3, 0.4e-3);
@@ -210,11 +317,7 @@ TEST(NeighborList, HistoryMergedInPlaceAsByLookup) {
 TEST(NeighborList, RebuildOnlyAfterHalfTheSkin) {
   Cloud c = random_cloud(50, 5);
   NeighborList list(1e-3, 0);
-  auto due = [&] {  // as the simulation asks: from the largest displacement since the build
-    double worst = 0.0;
-    for (std::size_t k = 0; k < c.position.size(); ++k) worst = std::max(worst, list.displacement2(k, c.position[k]));
-    return list.needs_rebuild(worst);
-  };
+  auto due = [&] { return rebuild_due(list, c); };
   EXPECT_TRUE(due());
   list.build(c.position, c.radius, c.owner, c.id);
   EXPECT_FALSE(due());

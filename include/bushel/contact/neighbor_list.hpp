@@ -18,11 +18,13 @@
 namespace bushel {
 
 /// A build's scratch: the partners of each element, in one list per block of partner_block
-/// elements (fewer allocations than one per element), and their counts.
+/// elements (fewer allocations than one per element), and their counts; and the pairs that
+/// wide elements found with lower narrow ones.
 inline constexpr std::size_t partner_block = 256;
 struct PartnerBlocks {
   std::vector<std::vector<std::uint32_t>> block;  ///< [block]: its elements' partners, in element order
-  std::vector<std::uint32_t> count;               ///< [element]: its partners
+  std::vector<std::uint32_t> count;               ///< [element]: its partners in its block's list
+  std::vector<std::uint64_t> extra;               ///< more pairs, first << 32 | second, sorted
 };
 
 class NeighborList {
@@ -30,16 +32,28 @@ class NeighborList {
   /// `skin` [m] > 0; `history_size` values of history per pair.
   NeighborList(double skin, int history_size);
 
-  /// Builds the pair list from element positions, radii, owners and stable ids; keeps the
-  /// history of pairs that were in the previous list (by stable id) and zeroes new ones.
+  /// Builds the pair list from element positions, radii, owners and stable ids, every element
+  /// with the margin skin / 2; keeps the history of pairs that were in the previous list (by
+  /// stable id) and zeroes new ones.
   void build(std::span<const Vec3> position, std::span<const double> radius, std::span<const std::uint32_t> owner,
              std::span<const std::uint32_t> stable_id);
+  /// The same with a margin per element [m], each at least skin / 2: pairs within r_i + r_j +
+  /// m_i + m_j are listed, and the list holds while every element stays within its margin of
+  /// where it was (docs/engine.md, margins per element).
+  void build(std::span<const Vec3> position, std::span<const double> radius, std::span<const std::uint32_t> owner,
+             std::span<const std::uint32_t> stable_id, std::span<const double> margin);
 
-  /// True when the list was never built, or the largest squared displacement of an element
-  /// since the build (displacement2; infinite for an element added since) exceeds (skin/2)^2.
-  bool needs_rebuild(double max_displacement2) const {
-    return builds_ == 0 || max_displacement2 > 0.25 * skin_ * skin_;
+  /// True when the list was never built, or some element has moved past its margin: `excess`
+  /// is the largest of excess2 over the elements.
+  bool needs_rebuild(double excess) const { return builds_ == 0 || excess > 0.0; }
+  /// An element's squared displacement since the build less its squared margin [m2]: positive
+  /// once it has moved past the margin; infinite for an element that was not in the build.
+  double excess2(std::size_t element, double displacement2) const {
+    return element < margin_.size() ? displacement2 - margin_[element] * margin_[element]
+                                    : std::numeric_limits<double>::infinity();
   }
+  /// An element's margin at the last build [m] (skin / 2 for one that was not in it).
+  double margin(std::size_t element) const { return element < margin_.size() ? margin_[element] : 0.5 * skin_; }
   /// Squared distance of an element from where it was at the last build [m2]; infinite for an
   /// element that was not in it.
   double displacement2(std::size_t element, const Vec3& position) const {
@@ -76,7 +90,8 @@ class NeighborList {
   /// The whole list, for a checkpoint; `load` restores it exactly (throws InputError on a
   /// truncated archive).
   void save(io::BinaryWriter& out) const;
-  void load(io::BinaryReader& in);
+  /// `version` 1: a list without margins (each element's is half the skin); 2: with them.
+  void load(io::BinaryReader& in, std::uint32_t version);
 
  private:
   /// The old list's history of each new pair (given by its first elements' ranges `start`,
@@ -91,6 +106,7 @@ class NeighborList {
   int history_size_;
   std::size_t builds_ = 0;
   std::vector<Vec3> reference_;  // positions at the last build
+  std::vector<double> margin_;   // each element's margin at the last build [m]
   std::vector<std::uint32_t> first_, second_;
   std::vector<std::uint64_t> key_;  // stable pair identity, min id << 32 | max id
   std::vector<double> history_;

@@ -1,0 +1,25 @@
+#pragma once
+// The neighbour list's search (docs/engine.md, the neighbour list): every element's partners
+// j > i within r_i + r_j + m_i + m_j, m the elements' margins, by a uniform cell grid.
+//
+// Most elements have the narrow margin, half the skin: they are found by a scan of the 27
+// cells around each element in a grid of cells 2 r_max + skin wide, the hot path. The few
+// elements with a wider margin (moving fast when the list was built) are left out of that
+// grid; each of them scans the narrow elements' grid as far as its own reach, and a grid of
+// the wide elements for its wide partners.
+
+#include <cstdint>
+#include <span>
+
+#include "bushel/contact/neighbor_list.hpp"
+
+namespace bushel {
+
+/// Partners of every element into `partners`: per element i, the partners j > i in its block's
+/// list, sorted, and their count; the pairs (j, i), j < i, that wide elements i found with
+/// narrow j in `partners.extra`, sorted. `margin` [m] per element, each at least skin / 2 (an
+/// element with skin / 2 exactly is narrow).
+void find_partners(std::span<const Vec3> position, std::span<const double> radius, std::span<const std::uint32_t> owner,
+                   std::span<const double> margin, double skin, PartnerBlocks& partners);
+
+}  // namespace bushel
