@@ -1,7 +1,8 @@
 #pragma once
-// Broad phase (docs/physics.md section 5): a uniform cell grid and a Verlet half list of sphere
-// element pairs within r_i + r_j + skin, rebuilt only when some element has moved more than
-// half the skin since the last build. Elements of the same body never pair.
+// Broad phase (docs/physics.md section 5, docs/engine.md): a uniform cell grid and a Verlet
+// half list of sphere element pairs within r_i + r_j + m_i + m_j, m_i each element's margin
+// (half the skin, or wider for a fast element), rebuilt only when some element has moved past
+// its margin since the last build. Elements of the same body never pair.
 //
 // Each pair owns `history_size` values of contact history (tangential displacement, rolling
 // spring). They are keyed by the pair's stable identity (the two elements' stable ids), so
