@@ -1,8 +1,10 @@
 #include "bushel/io/vtu.hpp"
 
 #include <fmt/format.h>
+#include <zlib.h>
 
 #include <cmath>
+#include <cstdint>
 #include <iterator>
 #include <limits>
 #include <stdexcept>
@@ -23,8 +25,15 @@ void check_array(const VtuArray& a, std::size_t count, std::string_view over) {
     invalid(fmt::format("array '{}' has {} values, expected {} components x {} {} = {}", a.name, a.values.size(),
                         a.components, count, over == "point" ? "points" : "cells", expected));
   }
+  const auto [lo, hi] = a.type == VtuType::int32    ? std::pair<double, double>{INT32_MIN, INT32_MAX}
+                        : a.type == VtuType::uint32 ? std::pair<double, double>{0.0, UINT32_MAX}
+                                                    : std::pair<double, double>{-HUGE_VAL, HUGE_VAL};
   for (std::size_t i = 0; i < a.values.size(); ++i) {
-    if (!std::isfinite(a.values[i])) invalid(fmt::format("array '{}' value {} is {}", a.name, i, a.values[i]));
+    const double v = a.values[i];
+    if (!std::isfinite(v)) invalid(fmt::format("array '{}' value {} is {}", a.name, i, v));
+    if (a.type != VtuType::float64 && (v != std::trunc(v) || v < lo || v > hi)) {
+      invalid(fmt::format("array '{}' value {} is {}, expected a whole number from {} to {}", a.name, i, v, lo, hi));
+    }
   }
 }
 
@@ -57,9 +66,21 @@ void check(const VtuPiece& p) {
   }
   for (const auto& a : p.point_data) check_array(a, p.points.size(), "point");
   for (const auto& a : p.cell_data) check_array(a, p.types.size(), "cell");
+  for (const auto& f : p.field_strings) {
+    if (f.name.empty()) invalid("a field data string list has no name");
+    for (const auto& v : f.values) {
+      if (v.find('\0') != std::string::npos) invalid(fmt::format("a string of '{}' holds a NUL character", f.name));
+    }
+  }
 }
 
 using Out = std::back_insert_iterator<std::string>;
+
+// The file being written: its XML, and for the binary encoding the appended data that follows.
+struct FileText {
+  VtuEncoding encoding;
+  std::string xml, appended;
+};
 
 // Numbers six to a line keep the file readable and lines short.
 template <class Range>
@@ -73,20 +94,94 @@ void write_values(Out out, const Range& values) {
   fmt::format_to(out, "\n        ");
 }
 
-void write_data_array(Out out, std::string_view type, std::string_view name, int components, const auto& values) {
+// Appends `bytes` zlib-compressed in blocks, behind VTK's header for them (UInt64 words):
+// block count, block size, size of a last partial block (0 if none), each block's compressed
+// size.
+void append_compressed(std::string& appended, std::string_view bytes) {
+  constexpr std::size_t block = 32768;
+  const std::size_t blocks = (bytes.size() + block - 1) / block;
+  std::vector<std::uint64_t> header{blocks, block, bytes.size() % block};
+  std::string data;
+  for (std::size_t k = 0; k < blocks; ++k) {
+    const std::string_view part = bytes.substr(k * block, block);
+    uLongf size = compressBound(static_cast<uLong>(part.size()));
+    const std::size_t at = data.size();
+    data.resize(at + size);
+    if (compress2(reinterpret_cast<Bytef*>(data.data() + at), &size, reinterpret_cast<const Bytef*>(part.data()),
+                  static_cast<uLong>(part.size()), Z_DEFAULT_COMPRESSION) != Z_OK) {
+      invalid("zlib could not compress a data array");
+    }
+    data.resize(at + size);
+    header.push_back(size);
+  }
+  appended.append(reinterpret_cast<const char*>(header.data()), header.size() * sizeof(std::uint64_t));
+  appended += data;
+}
+
+// One DataArray: the values as text (ascii) or as bytes of T behind the XML (binary).
+template <class T, class Range>
+void write_data_array(FileText& f, std::string_view type, std::string_view name, int components, const Range& values) {
+  const Out out = std::back_inserter(f.xml);
   fmt::format_to(out, "        <DataArray type=\"{}\"", type);
   if (!name.empty()) fmt::format_to(out, " Name=\"{}\"", xml_escaped(name));
   if (components != 1) fmt::format_to(out, " NumberOfComponents=\"{}\"", components);
-  fmt::format_to(out, " format=\"ascii\">");
-  write_values(out, values);
-  fmt::format_to(out, "</DataArray>\n");
+  if (f.encoding == VtuEncoding::ascii) {
+    fmt::format_to(out, " format=\"ascii\">");
+    std::vector<T> typed;
+    for (const auto& v : values) typed.push_back(static_cast<T>(v));
+    if constexpr (sizeof(T) == 1) {
+      write_values(out, std::vector<unsigned>(typed.begin(), typed.end()));  // numbers, not characters
+    } else {
+      write_values(out, typed);
+    }
+    fmt::format_to(out, "</DataArray>\n");
+    return;
+  }
+  fmt::format_to(out, " format=\"appended\" offset=\"{}\"/>\n", f.appended.size());
+  std::string bytes;
+  for (const auto& v : values) {
+    const T t = static_cast<T>(v);
+    bytes.append(reinterpret_cast<const char*>(&t), sizeof(T));
+  }
+  append_compressed(f.appended, bytes);
 }
 
-void write_field_section(Out out, std::string_view tag, const std::vector<VtuArray>& arrays) {
+void write_field_section(FileText& f, std::string_view tag, const std::vector<VtuArray>& arrays) {
   if (arrays.empty()) return;
-  fmt::format_to(out, "      <{}>\n", tag);
-  for (const auto& a : arrays) write_data_array(out, "Float64", a.name, a.components, a.values);
-  fmt::format_to(out, "      </{}>\n", tag);
+  fmt::format_to(std::back_inserter(f.xml), "      <{}>\n", tag);
+  for (const auto& a : arrays) {
+    switch (a.type) {
+      case VtuType::float64:
+        write_data_array<double>(f, "Float64", a.name, a.components, a.values);
+        break;
+      case VtuType::int32:
+        write_data_array<std::int32_t>(f, "Int32", a.name, a.components, a.values);
+        break;
+      case VtuType::uint32:
+        write_data_array<std::uint32_t>(f, "UInt32", a.name, a.components, a.values);
+        break;
+    }
+  }
+  fmt::format_to(std::back_inserter(f.xml), "      </{}>\n", tag);
+}
+
+// Strings go as VTK writes them in ASCII: each one's character codes, then a 0.
+void write_strings(FileText& f, const std::vector<VtuStrings>& lists) {
+  if (lists.empty()) return;
+  const Out out = std::back_inserter(f.xml);
+  fmt::format_to(out, "    <FieldData>\n");
+  for (const auto& l : lists) {
+    fmt::format_to(out, "      <DataArray type=\"String\" Name=\"{}\" NumberOfTuples=\"{}\" format=\"ascii\">",
+                   xml_escaped(l.name), l.values.size());
+    std::vector<unsigned> codes;
+    for (const auto& v : l.values) {
+      for (const char c : v) codes.push_back(static_cast<unsigned char>(c));
+      codes.push_back(0);
+    }
+    write_values(out, codes);
+    fmt::format_to(out, "</DataArray>\n");
+  }
+  fmt::format_to(out, "    </FieldData>\n");
 }
 
 std::uint32_t checked_count(std::size_t n, std::string_view what) {
@@ -96,39 +191,55 @@ std::uint32_t checked_count(std::size_t n, std::string_view what) {
 
 }  // namespace
 
-std::string vtu_text(const VtuPiece& p) {
+std::string vtu_file(const VtuPiece& p, VtuEncoding encoding) {
   check(p);
-  std::string text;
-  text.reserve(64 * p.points.size() + 16 * p.connectivity.size() + 1024);
-  const Out out = std::back_inserter(text);
-  fmt::format_to(out,
-                 "<?xml version=\"1.0\"?>\n"
-                 "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-                 "  <UnstructuredGrid>\n"
-                 "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n",
-                 p.points.size(), p.types.size());
-  write_field_section(out, "PointData", p.point_data);
-  write_field_section(out, "CellData", p.cell_data);
+  FileText f{encoding, {}, {}};
+  f.xml.reserve(encoding == VtuEncoding::ascii ? 64 * p.points.size() + 16 * p.connectivity.size() + 1024 : 4096);
+  const Out out = std::back_inserter(f.xml);
+  // Binary files need format version 1.0 for their 64-bit block headers.
+  if (encoding == VtuEncoding::ascii) {
+    fmt::format_to(out,
+                   "<?xml version=\"1.0\"?>\n"
+                   "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
+  } else {
+    fmt::format_to(out,
+                   "<?xml version=\"1.0\"?>\n"
+                   "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+                   "header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\">\n");
+  }
+  fmt::format_to(out, "  <UnstructuredGrid>\n");
+  write_strings(f, p.field_strings);
+  fmt::format_to(out, "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", p.points.size(), p.types.size());
+  write_field_section(f, "PointData", p.point_data);
+  write_field_section(f, "CellData", p.cell_data);
   fmt::format_to(out, "      <Points>\n");
   std::vector<double> xyz;
   xyz.reserve(3 * p.points.size());
   for (const Vec3& q : p.points) xyz.insert(xyz.end(), {q.x, q.y, q.z});
-  write_data_array(out, "Float64", "", 3, xyz);
+  write_data_array<double>(f, "Float64", "", 3, xyz);
   fmt::format_to(out, "      </Points>\n      <Cells>\n");
   // Int64 is what VTK itself writes for ids; every reader version accepts it.
-  write_data_array(out, "Int64", "connectivity", 1, p.connectivity);
-  write_data_array(out, "Int64", "offsets", 1, p.offsets);
-  std::vector<unsigned> types(p.types.begin(), p.types.end());  // numbers, not characters
-  write_data_array(out, "UInt8", "types", 1, types);
+  write_data_array<std::int64_t>(f, "Int64", "connectivity", 1, p.connectivity);
+  write_data_array<std::int64_t>(f, "Int64", "offsets", 1, p.offsets);
+  write_data_array<std::uint8_t>(f, "UInt8", "types", 1, p.types);
   fmt::format_to(out,
                  "      </Cells>\n"
                  "    </Piece>\n"
-                 "  </UnstructuredGrid>\n"
-                 "</VTKFile>\n");
-  return text;
+                 "  </UnstructuredGrid>\n");
+  if (encoding != VtuEncoding::ascii) {
+    f.xml += "  <AppendedData encoding=\"raw\">\n   _";  // the data start after the underscore
+    f.xml += f.appended;
+    f.xml += "\n  </AppendedData>\n";
+  }
+  f.xml += "</VTKFile>\n";
+  return std::move(f.xml);
 }
 
-void write_vtu(const std::string& path, const VtuPiece& piece) { write_file_atomically(path, vtu_text(piece)); }
+std::string vtu_text(const VtuPiece& p) { return vtu_file(p, VtuEncoding::ascii); }
+
+void write_vtu(const std::string& path, const VtuPiece& piece, VtuEncoding encoding) {
+  write_file_atomically(path, vtu_file(piece, encoding));
+}
 
 VtuPiece surface_piece(const TriangleMesh& mesh) {
   VtuPiece p;

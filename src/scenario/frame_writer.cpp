@@ -2,29 +2,59 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "bushel/core/input_error.hpp"
+#include "bushel/io/atomic_file.hpp"
 #include "bushel/io/binary_archive.hpp"
-#include "bushel/io/vtu.hpp"
 
 namespace bushel::io {
+namespace {
 
-FrameWriter::FrameWriter(std::string directory) : directory_(std::move(directory)) {
-  std::error_code ec;
-  std::filesystem::create_directories(directory_, ec);
-  if (ec) throw InputError("cannot create the output directory: " + ec.message()).at(directory_);
+// The touching pairs of sphere elements (overlap > 0): a line between their centres with the
+// overlap and the elastic Hertz normal force 4/3 E* sqrt(R*) overlap^(3/2) (docs/physics.md
+// section 2; damping and the tangential force are left out: they depend on the step), and
+// the contacts of each element.
+struct Touching {
+  VtuPiece lines;
+  std::vector<double> per_element;
+};
+
+Touching touching_pairs(const Simulation& sim) {
+  const ParticleSystem& ps = sim.particles();
+  const NeighborList& nl = sim.neighbors();
+  Touching t;
+  t.per_element.assign(ps.spheres(), 0.0);
+  t.lines.points = ps.sphere_position;
+  VtuArray overlap{"overlap_m", 1, {}}, force{"normal_force_elastic_N", 1, {}};
+  for (std::size_t p = 0; p < nl.pairs(); ++p) {
+    const std::uint32_t i = nl.first(p), j = nl.second(p);
+    if (i >= ps.spheres() || j >= ps.spheres()) continue;  // (a list older than the last removal)
+    const double ri = ps.radius[i], rj = ps.radius[j];
+    const double d = ri + rj - norm(ps.sphere_position[j] - ps.sphere_position[i]);
+    if (!(d > 0.0)) continue;
+    const Material& mi = ps.types()[ps.body_type[ps.owner[i]]].material;
+    const Material& mj = ps.types()[ps.body_type[ps.owner[j]]].material;
+    const double r_star = ri * rj / (ri + rj);
+    overlap.values.push_back(d);
+    force.values.push_back(4.0 / 3.0 * effective_youngs_modulus(mi, mj) * std::sqrt(r_star) * d * std::sqrt(d));
+    t.lines.connectivity.insert(t.lines.connectivity.end(), {i, j});
+    t.lines.offsets.push_back(static_cast<std::uint32_t>(t.lines.connectivity.size()));
+    t.lines.types.push_back(kVtkLine);
+    t.per_element[i] += 1.0, t.per_element[j] += 1.0;
+  }
+  t.lines.cell_data = {std::move(overlap), std::move(force)};
+  return t;
 }
 
-void FrameWriter::write(const Simulation& sim) {
+VtuPiece particle_piece(const Simulation& sim, const FrameOptions& o, const Touching& touching) {
   const ParticleSystem& ps = sim.particles();
   VtuPiece particles = point_cloud_piece(ps.sphere_position);
-  VtuArray radius{"radius_m", 1, ps.radius}, velocity{"velocity_m_s", 3, {}}, body{"body_id", 1, {}};
-  VtuArray type{"type", 1, {}}, orientation{"orientation_wxyz", 4, {}};  // the clump's, on each element
-  velocity.values.reserve(3 * ps.spheres());
-  body.values.reserve(ps.spheres());
-  type.values.reserve(ps.spheres());
-  orientation.values.reserve(4 * ps.spheres());
+  VtuArray radius{"radius_m", 1, ps.radius}, velocity{"velocity_m_s", 3, {}};
+  VtuArray body{"body_id", 1, {}, VtuType::uint32}, type{"type", 1, {}, VtuType::int32};
+  VtuArray orientation{"orientation_wxyz", 4, {}};  // the clump's, on each element
+  VtuArray spin{"angular_velocity_rad_s", 3, {}}, force{"force_N", 3, {}};
   for (std::size_t s = 0; s < ps.spheres(); ++s) {
     const std::uint32_t b = ps.owner[s];
     // The element's own velocity: the body's plus its spin about the centre of mass.
@@ -34,12 +64,54 @@ void FrameWriter::write(const Simulation& sim) {
     type.values.push_back(ps.body_type[b]);
     const Quat& q = ps.orientation[b];
     orientation.values.insert(orientation.values.end(), {q.w, q.x, q.y, q.z});
+    const Vec3 &w = ps.angular_velocity[b], &f = ps.force[b];
+    if (o.angular_velocity) spin.values.insert(spin.values.end(), {w.x, w.y, w.z});
+    if (o.force) force.values.insert(force.values.end(), {f.x, f.y, f.z});
   }
   particles.point_data = {std::move(radius), std::move(velocity), std::move(body), std::move(type),
                           std::move(orientation)};
+  if (o.angular_velocity) particles.point_data.push_back(std::move(spin));
+  if (o.force) particles.point_data.push_back(std::move(force));
+  if (o.coordination) particles.point_data.push_back({"contacts", 1, touching.per_element, VtuType::int32});
+  VtuStrings names{"type_names", {}};
+  for (const ParticleType& t : ps.types()) names.values.push_back(t.name);
+  particles.field_strings.push_back(std::move(names));
+  return particles;
+}
 
+}  // namespace
+
+FrameWriter::FrameWriter(std::string directory, FrameOptions options)
+    : directory_(std::move(directory)), options_(options) {
+  std::error_code ec;
+  std::filesystem::create_directories(directory_, ec);
+  if (ec) throw InputError("cannot create the output directory: " + ec.message()).at(directory_);
+}
+
+void FrameWriter::write(const Simulation& sim) {
+  const std::size_t k = frames_.size();
+  const std::string pname = fmt::format("particles_{:05d}.vtu", k);
+  const bool need_pairs = options_.coordination || options_.contacts;
+  const Touching touching = need_pairs ? touching_pairs(sim) : Touching{};
+  write_vtu(directory_ + "/" + pname, particle_piece(sim, options_, touching), options_.encoding);
+  if (options_.contacts) {
+    const std::string cname = fmt::format("contacts_{:05d}.vtu", k);
+    write_vtu(directory_ + "/" + cname, touching.lines, options_.encoding);
+    std::vector<std::pair<double, std::string>> contact_frames;
+    for (std::size_t f = 0; f <= k; ++f)
+      contact_frames.emplace_back(f < k ? frames_[f].first : sim.time(), fmt::format("contacts_{:05d}.vtu", f));
+    write_pvd(directory_ + "/contacts.pvd", contact_frames);
+  }
+  write_geometry(sim, k);
+  frames_.emplace_back(sim.time(), pname);
+  write_pvd(directory_ + "/particles.pvd", frames_);
+  write_pvd(directory_ + "/geometry.pvd", geometry_frames_);
+}
+
+// The enabled parts as one surface; a file only when it differs from the last one written.
+void FrameWriter::write_geometry(const Simulation& sim, std::size_t k) {
   TriangleMesh all;
-  VtuArray part{"part", 1, {}};
+  VtuArray part{"part", 1, {}, VtuType::int32};
   for (std::size_t i = 0; i < sim.parts(); ++i) {
     if (!sim.part(i).enabled) continue;  // (a gate taken away, a lid not yet put on: not drawn)
     const TriangleMesh m = sim.part_surface(i);
@@ -52,15 +124,15 @@ void FrameWriter::write(const Simulation& sim) {
   }
   VtuPiece geometry = surface_piece(all);
   geometry.cell_data.push_back(std::move(part));
-
-  const std::size_t k = frames_.size();
-  const std::string pname = fmt::format("particles_{:05d}.vtu", k), gname = fmt::format("geometry_{:05d}.vtu", k);
-  write_vtu(directory_ + "/" + pname, particles);
-  write_vtu(directory_ + "/" + gname, geometry);
-  frames_.emplace_back(sim.time(), pname);
-  geometry_frames_.emplace_back(sim.time(), gname);
-  write_pvd(directory_ + "/particles.pvd", frames_);
-  write_pvd(directory_ + "/geometry.pvd", geometry_frames_);
+  std::string bytes = vtu_file(geometry, options_.encoding);
+  if (bytes != last_geometry_ || geometry_frames_.empty()) {
+    const std::string gname = fmt::format("geometry_{:05d}.vtu", k);
+    write_file_atomically(directory_ + "/" + gname, bytes);
+    last_geometry_ = std::move(bytes);
+    geometry_frames_.emplace_back(sim.time(), gname);
+  } else {
+    geometry_frames_.emplace_back(sim.time(), geometry_frames_.back().second);
+  }
 }
 
 void FrameWriter::save(BinaryWriter& out) const {
@@ -77,6 +149,7 @@ void FrameWriter::load(BinaryReader& in) {
   const auto n = in.get<std::uint64_t>();
   frames_.clear();
   geometry_frames_.clear();
+  last_geometry_.clear();
   for (std::uint64_t k = 0; k < n; ++k) {
     const auto t = in.get<double>();
     const auto name = in.get<std::string>();

@@ -72,9 +72,23 @@ void read_outputs(const ScenarioNode& out, Scenario& sc, const ReadContext& cx) 
     }
   }
   if (const auto fr = out.find("frames")) {
-    fr->allow_only({"interval"});
+    fr->allow_only({"interval", "format", "fields"});
     sc.outputs.frame_interval = fr->positive("interval", dim::time);
     not_below_checks(*fr, sc.outputs.frame_interval, sc);
+    io::FrameOptions& o = sc.outputs.frames;
+    if (fr->has("format")) {
+      o.encoding =
+          fr->at("format").choice({"binary", "ascii"}) == "ascii" ? io::VtuEncoding::ascii : io::VtuEncoding::zlib;
+    }
+    if (const auto fields = fr->find("fields")) {
+      for (const ScenarioNode& item : fields->items()) {
+        const std::string f = item.choice({"angular_velocity", "force", "coordination", "contacts"});
+        (f == "angular_velocity" ? o.angular_velocity
+         : f == "force"          ? o.force
+         : f == "coordination"   ? o.coordination
+                                 : o.contacts) = true;
+      }
+    }
   }
 }
 

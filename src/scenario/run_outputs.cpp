@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "bushel/core/input_error.hpp"
+#include "bushel/io/atomic_file.hpp"
 
 namespace bushel::scenario_running {
 namespace {
@@ -27,7 +28,8 @@ std::string format_duration(double s) {
 }
 
 // The files and folders a run writes in its output folder.
-constexpr std::array<const char*, 4> run_outputs = {"summary.json", "timeseries.csv", "checkpoint.bin", "frames"};
+constexpr std::array<const char*, 5> run_outputs = {"summary.json", "timeseries.csv", "timeseries.units.csv",
+                                                    "checkpoint.bin", "frames"};
 
 }  // namespace
 
@@ -63,7 +65,7 @@ ThreadPolicy thread_policy(const Scenario& sc, const RunOptions& o) {
   return o.threads > 0 ? ThreadPolicy{.max = o.threads, .adaptive = false} : sc.settings.threads;
 }
 
-void SeriesWriter::open(const std::string& out_dir, const std::vector<std::string>& names,
+void SeriesWriter::open(const std::string& out_dir, const Scenario& sc, const std::vector<std::string>& names,
                         const std::vector<std::string>& chosen, bool resume, std::uint64_t& bytes) {
   namespace fs = std::filesystem;
   for (const auto& name : chosen.empty() ? names : chosen) {
@@ -89,6 +91,13 @@ void SeriesWriter::open(const std::string& out_dir, const std::vector<std::strin
     out_ << '\n';
     out_.flush();
     bytes = static_cast<std::uint64_t>(out_.tellp());
+    // The unit of each column as the rows give it (SI; angles in degrees; "-": none).
+    std::string units = "column,unit\nstage,-\n";
+    for (const std::size_t c : columns_) {
+      const units::Dimension d = sc.value_dimension(names[c]);
+      units += names[c] + "," + (d == units::dim::dimensionless ? "-" : std::string(result_unit(d))) + "\n";
+    }
+    io::write_file_atomically((fs::path(out_dir) / "timeseries.units.csv").string(), units);
   }
   if (!out_) throw InputError("cannot write the time series").at(series_path.string());
 }

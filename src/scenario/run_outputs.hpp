@@ -24,15 +24,16 @@ void prepare_output(const RunOptions& o);
 /// The scenario's thread policy, or a fixed count where the options give one.
 ThreadPolicy thread_policy(const Scenario& sc, const RunOptions& o);
 
-/// timeseries.csv: a header, then a row at each of the scenario's intervals.
+/// timeseries.csv: a header, then a row at each of the scenario's intervals; beside it
+/// timeseries.units.csv, a row per column: its name and unit.
 class SeriesWriter {
  public:
-  /// Opens `out_dir`/timeseries.csv for the values `chosen` among `names` (all if none are
-  /// chosen). A fresh run writes the header, and sets `bytes` to the file's size; a
-  /// continued one cuts the file to `bytes`, where its checkpoint was (the rows after it are
-  /// written again).
-  void open(const std::string& out_dir, const std::vector<std::string>& names, const std::vector<std::string>& chosen,
-            bool resume, std::uint64_t& bytes);
+  /// Opens `out_dir`/timeseries.csv for the values `chosen` among the scenario's (all if none
+  /// are chosen). A fresh run writes the header and the units, and sets `bytes` to the
+  /// file's size; a continued one cuts the file to `bytes`, where its checkpoint was (the
+  /// rows after it are written again).
+  void open(const std::string& out_dir, const Scenario& sc, const std::vector<std::string>& names,
+            const std::vector<std::string>& chosen, bool resume, std::uint64_t& bytes);
   /// A row: the stage, then the chosen ones of `values` (in the order of `names`). Returns the
   /// file's size after it.
   std::uint64_t write_row(const std::string& stage, const std::vector<double>& values);

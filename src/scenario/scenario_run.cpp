@@ -63,7 +63,7 @@ class Runner {
 
   // A fresh run; or, with `in`, the rest of the checkpointed run in it.
   RunReport run(const io::SectionTable* in) {
-    if (sc_.outputs.frame_interval > 0.0) frames_.emplace((std::filesystem::path(o_.out_dir) / "frames").string());
+    if (sc_.outputs.frame_interval > 0.0) frames_.emplace((std::filesystem::path(o_.out_dir) / "frames").string(), sc_.outputs.frames);
     if (in) {
       load_checkpoint(*in, st_, pos_, frames());
       if (!pos_.failed.empty()) {
@@ -74,7 +74,7 @@ class Runner {
       }
     }
     if (pos_.engines.empty() || pos_.engines.back() != build_description()) pos_.engines.push_back(build_description());
-    series_.open(o_.out_dir, st_.names, sc_.outputs.series, in != nullptr, pos_.series_bytes);
+    series_.open(o_.out_dir, sc_, st_.names, sc_.outputs.series, in != nullptr, pos_.series_bytes);
     const InterruptGuard catching;
     return loop();
   }

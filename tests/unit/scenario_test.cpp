@@ -16,6 +16,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <numeric>
 #include <random>
 #include <sstream>
 
@@ -341,6 +342,16 @@ TEST_F(ScenarioRun, FillsSettlesAndWritesItsOutputs) {
     EXPECT_EQ(std::count(l.begin(), l.end(), ','), std::count(header.begin(), header.end(), ',')) << l;
   }
   EXPECT_GE(rows, static_cast<int>(r.simulated_time / 0.01));
+  // the units beside it, a row per column in the same order
+  const std::string units = io::read_text_file(path("out/timeseries.units.csv"));
+  std::string names = "stage";
+  for (std::size_t pos = units.find("\n", units.find("stage,-")); pos + 1 < units.size();
+       pos = units.find('\n', pos + 1)) {
+    names += "," + units.substr(pos + 1, units.find(',', pos + 1) - pos - 1);
+  }
+  EXPECT_EQ(names, header);
+  EXPECT_EQ(units.rfind("column,unit\nstage,-\ntime,s\nparticles,-\nkinetic_energy,J\n", 0), 0u) << units;
+  EXPECT_NE(units.find("\ncup.bulk_density,kg/m3\n"), std::string::npos) << units;
   EXPECT_TRUE(std::filesystem::exists(path("out/frames/particles.pvd")));
   // every sensor kind (region, part, flow, heap) reads as many values as its columns declare
   EXPECT_EQ(r.summary.final_values.size(), sc.value_names().size());
@@ -542,6 +553,89 @@ TEST_F(ScenarioRun, AStageCanTakeAPartAway) {
   for (int k = 0; std::filesystem::exists(path(fmt::format("out/frames/geometry_{:05d}.vtu", k))); ++k)
     last = path(fmt::format("out/frames/geometry_{:05d}.vtu", k));
   EXPECT_NE(io::read_text_file(last).find("NumberOfCells=\"0\""), std::string::npos);
+}
+
+TEST_F(ScenarioRun, FramesWriteTheGeometryOnlyWhenItChanges) {
+  const std::string text = replaced(small, "  - name: settle\n", R"(  - name: drop
+    disable: [cup]
+    until: {time: 0.15 s}
+  - name: settle
+)");
+  run(read(text, {parse_override("parameters.count=40")}));
+  // the cup, then without it: two files, for more frames
+  int files = 0;
+  while (std::filesystem::exists(path(fmt::format("out/frames/geometry_{:05d}.vtu", files)))) ++files;
+  const std::string pvd = io::read_text_file(path("out/frames/geometry.pvd"));
+  auto count = [](const std::string& in, const std::string& what) {
+    int n = 0;
+    for (std::size_t pos = in.find(what); pos != std::string::npos; pos = in.find(what, pos + 1)) ++n;
+    return n;
+  };
+  EXPECT_GE(count(pvd, "<DataSet "), 4);
+  EXPECT_EQ(count(pvd, "<DataSet "), count(io::read_text_file(path("out/frames/particles.pvd")), "<DataSet "));
+  EXPECT_EQ(files, 2);
+  const std::string second = fmt::format("geometry_{:05d}.vtu", count(pvd, "file=\"geometry_00000.vtu\""));
+  EXPECT_EQ(count(pvd, "file=\"geometry_00000.vtu\"") + count(pvd, "file=\"" + second + "\""), count(pvd, "<DataSet "));
+}
+
+TEST_F(ScenarioRun, FramesHoldTheContactsAskedFor) {
+  // ASCII frames with every optional field: the contact lines and the per-element counts
+  // agree (each line counts once at either end), and each line joins two elements that overlap.
+  const std::string text = replaced(
+      small, "  frames: {interval: 50 ms}\n",
+      "  frames: {interval: 50 ms, format: ascii, fields: [angular_velocity, force, coordination, contacts]}\n");
+  run(read(text, {parse_override("parameters.count=120")}));
+  const std::string pvd = io::read_text_file(path("out/frames/contacts.pvd"));
+  const std::size_t at = pvd.rfind("file=\"") + 6;
+  const std::string last = pvd.substr(at, pvd.find('"', at) - at);
+  const std::string lines = io::read_text_file(path("out/frames/" + last));
+  const std::string particles = io::read_text_file(path("out/frames/" + std::string(last).replace(0, 8, "particles")));
+  auto values = [](const std::string& xml, const std::string& name) {
+    const std::size_t tag = xml.find("Name=\"" + name + "\"");
+    EXPECT_NE(tag, std::string::npos) << name;
+    const std::size_t open = xml.find('>', tag) + 1;
+    std::istringstream in(xml.substr(open, xml.find("</DataArray>", open) - open));
+    std::vector<double> v;
+    for (double x; in >> x;) v.push_back(x);
+    return v;
+  };
+  const std::vector<double> counts = values(particles, "contacts"), radius = values(particles, "radius_m");
+  const std::vector<double> connectivity = values(lines, "connectivity"), overlap = values(lines, "overlap_m");
+  const std::vector<double> force = values(lines, "normal_force_elastic_N");
+  ASSERT_GT(overlap.size(), 50u);
+  EXPECT_EQ(connectivity.size(), 2 * overlap.size());
+  EXPECT_EQ(std::accumulate(counts.begin(), counts.end(), 0.0), 2.0 * static_cast<double>(overlap.size()));
+  for (std::size_t c = 0; c < overlap.size(); ++c) {
+    EXPECT_GT(overlap[c], 0.0);
+    EXPECT_LT(overlap[c], 0.05 * radius[static_cast<std::size_t>(connectivity[2 * c])]);
+    EXPECT_GT(force[c], 0.0);
+  }
+  EXPECT_EQ(values(particles, "angular_velocity_rad_s").size(), 3 * radius.size());
+  EXPECT_EQ(values(particles, "force_N").size(), 3 * radius.size());
+  EXPECT_NE(particles.find("<DataArray type=\"UInt32\" Name=\"body_id\""), std::string::npos);
+  EXPECT_NE(particles.find("Name=\"type_names\" NumberOfTuples=\"1\""), std::string::npos);
+}
+
+TEST(ScenarioFrames, FieldsAndFormatAreCheckedWords) {
+  auto error_of = [](const std::string& frames) {
+    try {
+      read(replaced(small, "  frames: {interval: 50 ms}\n", "  frames: " + frames + "\n"));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const std::string unknown = error_of("{interval: 50 ms, fields: [forces]}");
+  EXPECT_NE(unknown.find("did you mean 'force'"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("s.yaml:"), std::string::npos) << unknown;
+  EXPECT_NE(error_of("{interval: 50 ms, format: vtk}").find("binary"), std::string::npos);
+  EXPECT_NE(error_of("{interval: 50 ms, fields: force}").find("expected a list"), std::string::npos);
+  const Scenario sc = read(replaced(small, "  frames: {interval: 50 ms}\n",
+                                    "  frames: {interval: 50 ms, format: ascii, fields: [contacts]}\n"));
+  EXPECT_EQ(sc.outputs.frames.encoding, io::VtuEncoding::ascii);
+  EXPECT_TRUE(sc.outputs.frames.contacts);
+  EXPECT_FALSE(sc.outputs.frames.force);
+  EXPECT_EQ(read(small).outputs.frames.encoding, io::VtuEncoding::zlib);
 }
 
 TEST_F(ScenarioRun, SaysHowManyKernelsLeftTheDomainAndInWhichStage) {

@@ -1,11 +1,15 @@
 // VTK XML output: the numbers in the file are the numbers given (read back with plain string
-// search, so the test needs no XML library), and pieces that do not fit together are refused.
+// search, so the test needs no XML library; binary arrays decoded here with zlib as VTK's
+// reader does), and pieces that do not fit together are refused.
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <unistd.h>
 #include "unit/temp_dir_test.hpp"
 
 #include <charconv>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -158,6 +162,94 @@ TEST(Vtu, MismatchedSizesThrow) {
   TriangleMesh broken = square();
   broken.triangles[1][2] = 7;
   EXPECT_THROW(surface_piece(broken), std::invalid_argument);
+}
+
+// The values of the appended array `name` of a binary file, as T: its offset from the
+// DataArray tag; then VTK's block header (UInt64: blocks, block size, last partial size,
+// compressed sizes) and the zlib blocks, each inflated.
+template <class T>
+std::vector<T> appended(const std::string& file, const std::string& name) {
+  const std::size_t tag = name.empty() ? file.find("<DataArray type=\"Float64\" NumberOfComponents=\"3\" format")
+                                       : file.find("Name=\"" + name + "\"");
+  EXPECT_NE(tag, std::string::npos) << name;
+  const std::size_t offset = std::stoul(attribute(file.substr(tag), "offset"));
+  const char* data = file.data() + file.find("<AppendedData encoding=\"raw\">") + 1;
+  data = std::strchr(data, '_') + 1 + offset;
+  std::uint64_t head[3];
+  std::memcpy(head, data, sizeof head);
+  const std::uint64_t blocks = head[0], block = head[1], last = head[2];
+  std::string bytes;
+  const char* z = data + (3 + blocks) * 8;
+  for (std::uint64_t k = 0; k < blocks; ++k) {
+    std::uint64_t zsize = 0;
+    std::memcpy(&zsize, data + (3 + k) * 8, 8);
+    uLongf size = (k + 1 == blocks && last != 0) ? last : block;
+    std::string out(size, '\0');
+    EXPECT_EQ(uncompress(reinterpret_cast<Bytef*>(out.data()), &size, reinterpret_cast<const Bytef*>(z), zsize), Z_OK);
+    EXPECT_EQ(size, out.size());
+    bytes += out;
+    z += zsize;
+  }
+  std::vector<T> values(bytes.size() / sizeof(T));
+  std::memcpy(values.data(), bytes.data(), bytes.size());
+  return values;
+}
+
+TEST(Vtu, BinaryFileHoldsTheSameValuesCompressed) {
+  // 5,000 points: several 32 KiB blocks per array, the last one partial.
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 5000; ++i) pts.push_back({1e-3 * i, -1.0 / (i + 1), 6.02214076e23});
+  VtuPiece p = point_cloud_piece(pts);
+  VtuArray id{"body_id", 1, {}, VtuType::uint32}, type{"type", 1, {}, VtuType::int32};
+  for (int i = 0; i < 5000; ++i) id.values.push_back(4000000000.0 - i), type.values.push_back(i % 3 - 1);
+  p.point_data = {id, type};
+  p.field_strings = {{"type_names", {"large", "", "a&b"}}};
+  const std::string file = vtu_file(p, VtuEncoding::zlib);
+  EXPECT_NE(file.find("version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" "
+                      "compressor=\"vtkZLibDataCompressor\""),
+            std::string::npos);
+  std::vector<double> xyz;
+  for (const Vec3& q : pts) xyz.insert(xyz.end(), {q.x, q.y, q.z});
+  EXPECT_EQ(appended<double>(file, ""), xyz);
+  const std::vector<std::uint32_t> ids = appended<std::uint32_t>(file, "body_id");
+  ASSERT_EQ(ids.size(), 5000u);
+  EXPECT_EQ(ids[0], 4000000000u);
+  EXPECT_EQ(ids[4999], 3999995001u);
+  const std::vector<std::int32_t> types = appended<std::int32_t>(file, "type");
+  EXPECT_EQ(types[0], -1);
+  EXPECT_EQ(types[4], 0);
+  const std::vector<std::int64_t> offsets = appended<std::int64_t>(file, "offsets");
+  EXPECT_EQ(offsets.back(), 5000);
+  EXPECT_EQ(appended<std::uint8_t>(file, "types"), std::vector<std::uint8_t>(5000, kVtkVertex));
+  // the strings as VTK writes them in ASCII: character codes, each string ended by a 0
+  EXPECT_EQ(numbers(array_text(file, "type_names")),
+            (std::vector<double>{108, 97, 114, 103, 101, 0, 0, 97, 38, 98, 0}));
+  EXPECT_LT(file.size(), vtu_text(p).size() / 2);
+}
+
+TEST(Vtu, IntegerArraysTakeOnlyWholeNumbersInRange) {
+  auto piece = [](double v, VtuType t) {
+    VtuPiece p = point_cloud_piece(std::vector<Vec3>{{0, 0, 0}});
+    p.point_data = {{"id", 1, {v}, t}};
+    return p;
+  };
+  EXPECT_NO_THROW(vtu_text(piece(-2147483648.0, VtuType::int32)));
+  EXPECT_NO_THROW(vtu_text(piece(4294967295.0, VtuType::uint32)));
+  for (const auto& [v, t] : std::vector<std::pair<double, VtuType>>{{0.5, VtuType::int32},
+                                                                    {2147483648.0, VtuType::int32},
+                                                                    {-1.0, VtuType::uint32},
+                                                                    {4294967296.0, VtuType::uint32}}) {
+    try {
+      vtu_file(piece(v, t), VtuEncoding::zlib);
+      ADD_FAILURE() << v;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("expected a whole number from"), std::string::npos) << e.what();
+    }
+  }
+  VtuPiece p = piece(1.0, VtuType::int32);
+  p.field_strings = {{"names", {std::string("a\0b", 3)}}};
+  EXPECT_THROW(vtu_text(p), std::invalid_argument);
+  EXPECT_EQ(numbers(array_text(vtu_text(piece(7.0, VtuType::int32)), "id")), std::vector<double>{7.0});
 }
 
 class VtuFiles : public TempDirTest {};

@@ -1,8 +1,9 @@
 #pragma once
-// VTK XML output for ParaView: unstructured grids (.vtu, format version 0.1, ASCII data
-// arrays) for surfaces and particles, and collections (.pvd) that put the frames of a run on
-// a time axis. ASCII keeps the files diffable and readable without VTK; every double is
-// written so that it reads back exactly.
+// VTK XML output for ParaView: unstructured grids (.vtu) for surfaces, particles and contact
+// lines, and collections (.pvd) that put the frames of a run on a time axis. Two encodings:
+// ASCII (diffable, readable without VTK) and binary (raw appended data compressed by zlib in
+// blocks, as VTK's own vtkZLibDataCompressor writes it: several times smaller and faster to
+// read). Either way every value reads back exactly.
 
 #include <cstdint>
 #include <span>
@@ -10,16 +11,28 @@
 #include <utility>
 #include <vector>
 
-#include "bushel/core/vec3.hpp"
 #include "bushel/core/triangle_mesh.hpp"
+#include "bushel/core/vec3.hpp"
 
 namespace bushel::io {
 
+/// The type an array is stored as. Integer types hold ids, counts and indices: their values
+/// must be whole numbers in range.
+enum class VtuType { float64, int32, uint32 };
+
 /// A named field over the points or the cells of a piece.
 struct VtuArray {
-  std::string name;            ///< shown in ParaView; include the unit, e.g. "velocity_m_s"
-  int components = 1;          ///< 1 for a scalar, 3 for a vector, 9 for a tensor
-  std::vector<double> values;  ///< SI values, interleaved: components x (points or cells)
+  std::string name;                 ///< shown in ParaView; include the unit, e.g. "velocity_m_s"
+  int components = 1;               ///< 1 for a scalar, 3 for a vector, 9 for a tensor
+  std::vector<double> values;       ///< SI values, interleaved: components x (points or cells)
+  VtuType type = VtuType::float64;  ///< how they are stored
+};
+
+/// A named list of words in the piece's field data (e.g. the particle types' names, indexed
+/// by the `type` point array).
+struct VtuStrings {
+  std::string name;
+  std::vector<std::string> values;  ///< printable text without NUL characters
 };
 
 /// One unstructured grid: points, cells given VTK style, and fields.
@@ -30,19 +43,32 @@ struct VtuPiece {
   std::vector<std::uint8_t> types;          ///< per cell, the VTK cell type (kVtkVertex, kVtkTriangle, ...)
   std::vector<VtuArray> point_data;         ///< one value tuple per point
   std::vector<VtuArray> cell_data;          ///< one value tuple per cell
+  std::vector<VtuStrings> field_strings;    ///< field data over the whole piece
+};
+
+/// How a file stores its arrays.
+enum class VtuEncoding {
+  ascii,  ///< numbers as text in the XML
+  zlib,   ///< raw binary appended after the XML, zlib-compressed in blocks of 32 KiB
 };
 
 inline constexpr std::uint8_t kVtkVertex = 1;    ///< VTK_VERTEX: one point
+inline constexpr std::uint8_t kVtkLine = 3;      ///< VTK_LINE: two points
 inline constexpr std::uint8_t kVtkTriangle = 5;  ///< VTK_TRIANGLE: three points, counter-clockwise
 
 /// The XML of a .vtu file holding `piece`. Throws std::invalid_argument naming what does not
 /// fit: offsets and types of different lengths, offsets not increasing or not ending at the
 /// connectivity's size, an index beyond the points, an array whose size is not components x
-/// count, an unnamed array, a non-finite value (ParaView cannot read those back).
+/// count, an unnamed array, a non-finite value (ParaView cannot read those back), a value of
+/// an integer array that is not a whole number in the type's range, a string with a NUL.
 std::string vtu_text(const VtuPiece& piece);
 
-/// Writes vtu_text(piece) to `path` atomically; throws InputError if the file cannot be written.
-void write_vtu(const std::string& path, const VtuPiece& piece);
+/// The bytes of a .vtu file holding `piece` in `encoding` (vtu_text for ascii); the same checks.
+std::string vtu_file(const VtuPiece& piece, VtuEncoding encoding);
+
+/// Writes vtu_file(piece, encoding) to `path` atomically; throws InputError if the file cannot
+/// be written.
+void write_vtu(const std::string& path, const VtuPiece& piece, VtuEncoding encoding = VtuEncoding::ascii);
 
 /// A surface: the mesh's vertices as points, its triangles as VTK_TRIANGLE cells (in order, so
 /// cell data follows the triangle index). Throws std::invalid_argument for an index beyond the

@@ -18,6 +18,7 @@
 #include "bushel/insertion/factory.hpp"
 #include "bushel/integrate/critical_step.hpp"
 #include "bushel/integrate/simulation.hpp"
+#include "bushel/scenario/frame_writer.hpp"
 #include "bushel/scenario/run_guards.hpp"
 #include "bushel/scenario/scenario_document.hpp"
 #include "bushel/scenario/sensor_spec.hpp"
@@ -78,6 +79,7 @@ struct OutputSpec {
   double series_interval = 0.01;    ///< timeseries.csv row interval [s]
   std::vector<std::string> series;  ///< its columns ("cup.bulk_density"); empty = all values
   double frame_interval = 0.0;      ///< ParaView frames interval [s]; 0 = none
+  io::FrameOptions frames;          ///< what the frames hold and their encoding
 };
 
 /// A number the run computes from its stages' end values when it ends ("compressibility:
