@@ -1,7 +1,12 @@
-// Python access to bushel's particle templates, units and grain formulas, for notebooks and
-// scripts that post-process runs. Values are SI; quantities may be given as strings with units.
+// The compiled part of the Python package `bushel` (python/bushel/): scenarios validated and
+// run, particle templates, units and grain formulas. Values are SI; every quantity may also be
+// given as a string with its unit ("5.42 mm"). The package's Python modules read a run's
+// outputs (runs.py, frames.py).
+#include <pybind11/functional.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+
+#include <csignal>
 
 #include "bushel/analysis/grain_trade.hpp"
 #include "bushel/analysis/kernel_shape.hpp"
@@ -10,6 +15,9 @@
 #include "bushel/particles/material.hpp"
 #include "bushel/particles/pseudo_ellipsoid.hpp"
 #include "bushel/particles/template_library.hpp"
+#include "bushel/scenario/scenario.hpp"
+#include "bushel/scenario/scenario_document.hpp"
+#include "bushel/scenario/scenario_run.hpp"
 #include "bushel/units/units.hpp"
 
 namespace py = pybind11;
@@ -24,6 +32,88 @@ bushel::units::Dimension dimension_named(const std::string& name) {
     if (bushel::units::dimension_name(dim) == name) return dim;
   }
   throw bushel::InputError("unknown dimension '" + name + "' (e.g. 'length', 'mass', 'density', 'pressure')");
+}
+
+// A quantity from Python: a number (SI) or a string with its unit, checked against `dim`.
+double si(const py::handle& value, bushel::units::Dimension dim, const char* name) {
+  if (py::isinstance<py::str>(value)) {
+    try {
+      return bushel::units::parse(value.cast<std::string>(), dim);
+    } catch (const bushel::InputError& e) {
+      throw bushel::InputError(e.problem()).with_key(name);
+    }
+  }
+  if (py::isinstance<py::bool_>(value) || !(py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value))) {
+    throw bushel::InputError(std::string("expected a number (SI) or a string with a unit, got ") +
+                             py::str(py::type::of(value)).cast<std::string>())
+        .with_key(name);
+  }
+  return value.cast<double>();
+}
+std::optional<double> si_or_none(const py::handle& value, bushel::units::Dimension dim, const char* name) {
+  return value.is_none() ? std::nullopt : std::optional(si(value, dim, name));
+}
+
+// A scenario from a file path, or from its text (YAML or JSON) when `is_text`.
+bushel::Scenario load_scenario(const std::string& source, bool is_text, const std::vector<std::string>& sets) {
+  std::vector<bushel::Override> overrides;
+  for (const auto& s : sets) overrides.push_back(bushel::parse_override(s));
+  return bushel::read_scenario(is_text ? bushel::parse_scenario_document(source, "<python>", overrides)
+                                       : bushel::load_scenario_document(source, overrides));
+}
+
+// The run (fresh, or continued from the checkpoint in `out` when `resume`) with the GIL
+// released while it steps; `progress(dict)` is called at checks with the GIL held, and a true
+// result or an exception stops the run there as Ctrl-C would (the exception is raised after).
+py::dict run(const std::string& source, bool is_text, const std::vector<std::string>& sets, const std::string& out,
+             bool resume, int threads, bool overwrite, const py::object& stop_at, double checkpoint_minutes,
+             const py::object& progress) {
+  bushel::RunOptions o;
+  o.out_dir = out;
+  o.threads = threads;
+  o.overwrite = overwrite;
+  o.progress = false;
+  o.checkpoint_interval = 60.0 * checkpoint_minutes;
+  if (!stop_at.is_none()) o.interrupt_at = si(stop_at, bushel::units::dim::time, "stop_at");
+  bool raised = false;
+  if (!progress.is_none()) {
+    o.on_check = [&](const bushel::RunProgress& p) {
+      py::gil_scoped_acquire gil;
+      try {
+        py::dict d;
+        d["stage"] = p.stage;
+        d["stage_index"] = p.stage_index;
+        d["stages"] = p.stages;
+        d["time_s"] = p.time;
+        d["particles"] = p.particles;
+        d["steps"] = p.steps;
+        d["wall_time_s"] = p.wall_time;
+        const py::object r = progress(d);
+        return !r.is_none() && r.cast<bool>();
+      } catch (py::error_already_set& e) {
+        e.restore();  // (raised again below, once the run has stopped and the GIL is back)
+        raised = true;
+        return true;
+      }
+    };
+  }
+  bushel::RunReport r;
+  if (resume) {
+    py::gil_scoped_release released;
+    r = bushel::resume_scenario(o);
+  } else {
+    const bushel::Scenario sc = load_scenario(source, is_text, sets);
+    py::gil_scoped_release released;
+    r = bushel::run_scenario(sc, o);
+  }
+  if (raised) throw py::error_already_set();
+  py::dict d;
+  d["out"] = out;
+  d["interrupted"] = r.interrupted;
+  d["at_stop_time"] = r.at_stop_time;
+  d["signal"] = r.signal;
+  d["failed"] = r.failed;
+  return d;
 }
 
 py::dict describe(const bushel::ParticleTemplate& t, double density) {
@@ -45,8 +135,9 @@ py::dict describe(const bushel::ParticleTemplate& t, double density) {
 
 }  // namespace
 
-PYBIND11_MODULE(bushel, m) {
-  m.doc() = "bushel: DEM of grain bulk density -- templates, units and grain formulas";
+PYBIND11_MODULE(_bushel, m) {
+  namespace dim = bushel::units::dim;
+  m.doc() = "bushel's compiled part: scenarios, templates, units and grain formulas (use the package `bushel`)";
   py::register_exception<bushel::InputError>(m, "InputError", PyExc_ValueError);
 
   m.def(
@@ -58,7 +149,9 @@ PYBIND11_MODULE(bushel, m) {
 
   m.def(
       "template",
-      [](const std::string& spec, double density) { return describe(bushel::resolve_template(spec), density); },
+      [](const std::string& spec, const py::object& density) {
+        return describe(bushel::resolve_template(spec), si(density, dim::density, "density"));
+      },
       py::arg("spec"), py::arg("density") = bushel::materials::wheat().density,
       "Built-in template name, CSV path or 'path.csv:name' -> dict of SI mass properties");
 
@@ -66,19 +159,27 @@ PYBIND11_MODULE(bushel, m) {
 
   m.def(
       "pseudo_ellipsoid",
-      [](double length, double width, int spheres, std::optional<double> mass, double density,
-         std::optional<double> end_radius) {
-        bushel::PseudoEllipsoidSpec s{length, width, spheres, mass, density, end_radius};
-        return describe(bushel::make_pseudo_ellipsoid(s, "ellipsoid"), density);
+      [](const py::object& length, const py::object& width, int spheres, const py::object& mass,
+         const py::object& density, const py::object& end_radius) {
+        const double rho = si(density, dim::density, "density");
+        bushel::PseudoEllipsoidSpec s{si(length, dim::length, "length"),
+                                      si(width, dim::length, "width"),
+                                      spheres,
+                                      si_or_none(mass, dim::mass, "mass"),
+                                      rho,
+                                      si_or_none(end_radius, dim::length, "end_radius")};
+        return describe(bushel::make_pseudo_ellipsoid(s, "ellipsoid"), rho);
       },
       py::arg("length"), py::arg("width"), py::arg("spheres") = 5, py::arg("mass") = py::none(),
       py::arg("density") = bushel::materials::wheat().density, py::arg("end_radius") = py::none(),
-      "Pseudo-ellipsoid clump (SI inputs)");
+      "Pseudo-ellipsoid clump (numbers in SI, or strings with units)");
 
   m.def(
       "shape_factors",
-      [](double l, double w, double t) {
-        const auto f = bushel::shape_factors({l, w, t});
+      [](const py::object& l, const py::object& w, const py::object& t) {
+        // (the factors are ratios: any one length unit serves, numbers in mm as well as m)
+        const auto f = bushel::shape_factors(
+            {si(l, dim::length, "length"), si(w, dim::length, "width"), si(t, dim::length, "thickness")});
         py::dict d;
         d["equivalent_diameter"] = f.equivalent_diameter;
         d["sphericity_mohsenin"] = f.sphericity_mohsenin;
@@ -89,11 +190,59 @@ PYBIND11_MODULE(bushel, m) {
       },
       py::arg("length"), py::arg("width"), py::arg("thickness"));
 
-  m.def("rayleigh_time_step", &bushel::rayleigh_time_step, py::arg("radius"), py::arg("density"),
-        py::arg("shear_modulus"), py::arg("poisson_ratio"));
-  m.def("packing_ratio", &bushel::packing_ratio, py::arg("packed_density"), py::arg("initial_density"));
-  m.def("compressibility", &bushel::compressibility, py::arg("tapped_density"), py::arg("loose_density"));
-  m.def("mass_in_bin", &bushel::mass_in_bin, py::arg("initial_density"), py::arg("packing_ratio"), py::arg("volume"));
-  m.def("pack_factor", &bushel::pack_factor, py::arg("packing_ratio"), py::arg("initial_density"),
-        py::arg("standard_test_weight"));
+  m.def(
+      "rayleigh_time_step",
+      [](const py::object& r, const py::object& rho, const py::object& g, double nu) {
+        return bushel::rayleigh_time_step(si(r, dim::length, "radius"), si(rho, dim::density, "density"),
+                                          si(g, dim::pressure, "shear_modulus"), nu);
+      },
+      py::arg("radius"), py::arg("density"), py::arg("shear_modulus"), py::arg("poisson_ratio"));
+  m.def(
+      "packing_ratio",
+      [](const py::object& packed, const py::object& initial) {
+        return bushel::packing_ratio(si(packed, dim::density, "packed_density"),
+                                     si(initial, dim::density, "initial_density"));
+      },
+      py::arg("packed_density"), py::arg("initial_density"));
+  m.def(
+      "compressibility",
+      [](const py::object& tapped, const py::object& loose) {
+        return bushel::compressibility(si(tapped, dim::density, "tapped_density"),
+                                       si(loose, dim::density, "loose_density"));
+      },
+      py::arg("tapped_density"), py::arg("loose_density"));
+  m.def(
+      "mass_in_bin",
+      [](const py::object& initial, double ratio, const py::object& volume) {
+        return bushel::mass_in_bin(si(initial, dim::density, "initial_density"), ratio,
+                                   si(volume, dim::volume, "volume"));
+      },
+      py::arg("initial_density"), py::arg("packing_ratio"), py::arg("volume"));
+  m.def(
+      "pack_factor",
+      [](double ratio, const py::object& initial, const py::object& standard) {
+        return bushel::pack_factor(ratio, si(initial, dim::density, "initial_density"),
+                                   si(standard, dim::density, "standard_test_weight"));
+      },
+      py::arg("packing_ratio"), py::arg("initial_density"), py::arg("standard_test_weight"));
+
+  m.def(
+      "_validate",
+      [](const std::string& source, bool is_text, const std::vector<std::string>& sets) {
+        const bushel::Scenario sc = load_scenario(source, is_text, sets);
+        py::dict d;
+        py::list stages;
+        for (const auto& st : sc.stages) stages.append(st.name);
+        d["stages"] = stages;
+        d["values"] = sc.value_names();
+        d["dt_s"] = sc.settings.dt;
+        d["rayleigh_step_s"] = sc.rayleigh_step;
+        d["critical_step_s"] = sc.critical_step.dt;
+        d["critical_pair"] = sc.critical_step.pair;
+        return d;
+      },
+      py::arg("source"), py::arg("is_text"), py::arg("sets"));
+  m.def("_run", &run, py::arg("source"), py::arg("is_text"), py::arg("sets"), py::arg("out"), py::arg("resume"),
+        py::arg("threads"), py::arg("overwrite"), py::arg("stop_at"), py::arg("checkpoint_minutes"),
+        py::arg("progress"));
 }

@@ -63,7 +63,8 @@ class Runner {
 
   // A fresh run; or, with `in`, the rest of the checkpointed run in it.
   RunReport run(const io::SectionTable* in) {
-    if (sc_.outputs.frame_interval > 0.0) frames_.emplace((std::filesystem::path(o_.out_dir) / "frames").string(), sc_.outputs.frames);
+    if (sc_.outputs.frame_interval > 0.0)
+      frames_.emplace((std::filesystem::path(o_.out_dir) / "frames").string(), sc_.outputs.frames);
     if (in) {
       load_checkpoint(*in, st_, pos_, frames());
       if (!pos_.failed.empty()) {
@@ -163,7 +164,9 @@ class Runner {
       pos_.next_frame += sc_.outputs.frame_interval;
     }
     at_stop_time_ = sim.time() >= o_.interrupt_at - 0.5 * dt;
-    const bool stop = interrupt_signal.load() != 0 || at_stop_time_;
+    const bool asked = o_.on_check && o_.on_check({stage.name, pos_.stage, sc_.stages.size(), sim.time(),
+                                                   sim.particles().bodies(), sim.steps(), wall()});
+    const bool stop = interrupt_signal.load() != 0 || at_stop_time_ || asked;
     if (stop || (o_.checkpoint_interval > 0.0 &&
                  std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >= o_.checkpoint_interval)) {
       checkpoint();

@@ -11,6 +11,7 @@
 //                   scenario itself is kept in it)
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -21,6 +22,17 @@
 #include "bushel/scenario/scenario.hpp"
 
 namespace bushel {
+
+/// Where a run stands at a check, for RunOptions::on_check.
+struct RunProgress {
+  std::string stage;        ///< the stage's name
+  std::size_t stage_index;  ///< from 0
+  std::size_t stages;       ///< how many the scenario has
+  double time;              ///< simulated [s]
+  std::size_t particles;    ///< bodies in the simulation
+  std::uint64_t steps;      ///< since the run began
+  double wall_time;         ///< since the run began, over all its sittings [s]
+};
 
 struct RunOptions {
   std::string out_dir;  ///< created if missing
@@ -33,6 +45,10 @@ struct RunOptions {
   double checkpoint_interval = 300;  ///< wall seconds between checkpoints [s]; 0 = only on Ctrl-C
   /// Stop as Ctrl-C would at the first check at or after this simulated time [s] (tests).
   double interrupt_at = std::numeric_limits<double>::infinity();
+  /// Called at every check, after its outputs (from the thread that called run_scenario). It
+  /// sees the run and cannot change it; returning true stops the run there as Ctrl-C would
+  /// (checkpoint written, RunReport::interrupted with signal 0).
+  std::function<bool(const RunProgress&)> on_check;
 };
 
 struct RunReport {
