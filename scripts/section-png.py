@@ -5,12 +5,11 @@ as a disc (its section), coloured by particle type. Used for the set-up pictures
 
   scripts/section-png.py RUN_DIR --frame 3 --out setup.png [--title TEXT] [--width 6]
 
-RUN_DIR holds frames/ (particles_NNNNN.vtu, geometry_NNNNN.vtu); --frame -1 is the last.
+RUN_DIR holds frames/ (particles.pvd, geometry.pvd); --frame -1 is the last. The frames are
+read by the bushel package (docs/python.md), from build/release/python or where it is installed.
 """
 import argparse
-import glob
 import os
-import re
 import sys
 
 import numpy as np
@@ -21,33 +20,23 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import LineCollection, PatchCollection  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
-
-def arrays(path):
-    """The ASCII DataArrays of a VTU file by name, and its points."""
-    text = open(path).read()
-    out = {}
-    for m in re.finditer(r'<DataArray type="(\w+)" Name="([^"]+)"[^>]*format="ascii"[^>]*>(.*?)</DataArray>',
-                         text, re.S):
-        out[m.group(2)] = np.array(m.group(3).split(), dtype=float if m.group(1).startswith("Float") else np.int64)
-    points = re.search(r"<Points>\s*<DataArray[^>]*>(.*?)</DataArray>", text, re.S)
-    out["Points"] = np.array(points.group(1).split(), dtype=float)
-    return out
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "release", "python"))
+from bushel.frames import read_pvd, read_vtu  # noqa: E402
 
 
 def section(frames, index):
-    particles = sorted(glob.glob(os.path.join(frames, "particles_*.vtu")))
-    geometry = sorted(glob.glob(os.path.join(frames, "geometry_*.vtu")))
+    particles, geometry = read_pvd(os.path.join(frames, "particles.pvd")), read_pvd(os.path.join(frames, "geometry.pvd"))
     if not particles:
         sys.exit(f"no frames in {frames}")
-    p, g = arrays(particles[index]), arrays(geometry[index])
-    pts = p["Points"].reshape(-1, 3)
-    r = p["radius_m"]
-    kind = p.get("type", np.zeros(len(r)))
+    p, g = read_vtu(particles[index][1]), read_vtu(geometry[index][1])
+    pts = p.points
+    r = p.point_data["radius_m"]
+    kind = p.point_data.get("type", np.zeros(len(r)))
     cut = np.abs(pts[:, 1]) < r  # spheres the plane y = 0 cuts
     discs = [(x, z, np.sqrt(rr * rr - y * y)) for (x, y, z), rr in zip(pts[cut], r[cut])]
     # each triangle of the walls that crosses y = 0 gives one segment
-    v = g["Points"].reshape(-1, 3)
-    tri = g["connectivity"].reshape(-1, 3)
+    v = g.points
+    tri = g.connectivity.reshape(-1, 3)
     segments = []
     for t in tri:
         a = v[t]
