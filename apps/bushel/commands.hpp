@@ -20,6 +20,7 @@ void add_doe_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 /// `run` and `validate`: scenario files.
 void add_run_command(CLI::App& app);
+void add_preview_command(CLI::App& app);
 /// `demo funnel`, registered on the `demo` sub-command.
 void add_demo_funnel_command(CLI::App& demo);
 
