@@ -8,6 +8,7 @@
 
 #include "bushel/core/input_error.hpp"
 #include "bushel/io/atomic_file.hpp"
+#include "bushel/io/csv.hpp"
 #include "bushel/io/python_plot.hpp"
 #include "bushel/report/report.hpp"
 #include "commands.hpp"
@@ -117,7 +118,13 @@ void run_report(const ReportCommandOptions& o) {
   io::write_file_atomically(path("figures.json"), report_figures_json(report));
   if (!o.no_plots && !report.figures().empty()) io::run_python(plot_script, {path("figures.json"), o.out});
   io::write_file_atomically(path("report.md"), report_markdown(report));
-  io::write_file_atomically(path("report.html"), report_html(report));
+  // The page holds its figures (a single file to send or archive); without plots it links them.
+  const auto png = [&](const std::string& file) -> std::optional<std::string> {
+    std::error_code missing;
+    if (!fs::exists(path(file), missing)) return std::nullopt;
+    return io::read_text_file(path(file));
+  };
+  io::write_file_atomically(path("report.html"), report_html(report, png));
 
   std::size_t scenarios = report.sections.size() - 1;
   fmt::print("report   {}  {}\n", path("report.md"), path("report.html"));

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "bushel/io/base64.hpp"
 #include "bushel/io/xml_escape.hpp"
 #include "bushel/report/report.hpp"
 
@@ -66,7 +67,7 @@ std::string html_text(const std::string& s) {
 }
 
 std::string html_table(const ReportTable& t) {
-  std::string out = "<table>\n<tr>";
+  std::string out = "<div class=\"wide\"><table>\n<tr>";
   for (const std::string& h : t.header) out += "<th>" + io::xml_escaped(h) + "</th>";
   out += "</tr>\n";
   const std::vector<bool> numeric = numeric_columns(t);
@@ -77,7 +78,7 @@ std::string html_table(const ReportTable& t) {
     }
     out += "</tr>\n";
   }
-  return out + "</table>\n";
+  return out + "</table></div>\n";
 }
 
 nlohmann::ordered_json numbers(const std::vector<double>& v) {
@@ -117,11 +118,14 @@ std::string report_markdown(const Report& report) {
   return out;
 }
 
-std::string report_html(const Report& report) {
+std::string report_html(const Report& report,
+                        const std::function<std::optional<std::string>(const std::string&)>& figure_bytes) {
   std::string out =
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + io::xml_escaped(report.title) +
       "</title>\n<style>\nbody { font-family: sans-serif; max-width: 70em; margin: 2em auto; padding: 0 1em; }\n"
       "table { border-collapse: collapse; margin: 0.5em 0; font-size: 90%; }\n"
+      // (a wide table scrolls inside the page; long words in its cells break)
+      "div.wide { max-width: 100%; overflow-x: auto; } td, th { overflow-wrap: anywhere; }\n"
       "th, td { border: 1px solid #bbb; padding: 0.2em 0.5em; }\nth { background: #eee; }\n"
       "td.n { text-align: right; font-variant-numeric: tabular-nums; }\n"
       "figure { margin: 1em 0; } img { max-width: 100%; } .caption { color: #444; font-style: italic; }\n"
@@ -146,10 +150,13 @@ std::string report_html(const Report& report) {
           out += html_table(b.table);
           if (!b.text.empty()) out += "<p class=\"caption\">" + html_text(b.text) + "</p>\n";
           break;
-        case ReportBlock::Kind::figure:
-          out += "<figure><img src=\"" + io::xml_escaped(b.figure.file) + "\" alt=\"" + io::xml_escaped(b.text) +
+        case ReportBlock::Kind::figure: {
+          const std::optional<std::string> png = figure_bytes ? figure_bytes(b.figure.file) : std::nullopt;
+          const std::string src = png ? "data:image/png;base64," + io::base64(*png) : io::xml_escaped(b.figure.file);
+          out += "<figure><img src=\"" + src + "\" alt=\"" + io::xml_escaped(b.text) +
                  "\"><figcaption class=\"caption\">" + html_text(b.text) + "</figcaption></figure>\n";
           break;
+        }
       }
     }
   }

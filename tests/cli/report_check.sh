@@ -39,7 +39,14 @@ if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
   for f in "$work/plots"/*.png; do
     [[ $(head -c 8 "$f" | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] || fail "$f is not a PNG"
   done
-  grep -q '<img src="calibration-cup-bulk_density.png"' "$work/plots/report.html" || fail "figure not linked"
+  # the page holds its figures: each PNG as a data: URL, byte for byte
+  /usr/bin/python3 - "$work/plots" <<'PY' || fail "figures not embedded in report.html"
+import base64, glob, sys
+html = open(sys.argv[1] + "/report.html").read()
+for png in glob.glob(sys.argv[1] + "/*.png"):
+    assert '<img src="data:image/png;base64,' + base64.b64encode(open(png, "rb").read()).decode() + '"' in html, png
+PY
+  grep -q '<div class="wide"><table>' "$work/plots/report.html" || fail "tables not kept within the page"
 fi
 
 # Bad input: one line naming what was wrong.

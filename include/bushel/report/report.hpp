@@ -10,6 +10,8 @@
 // The model here is plain text and numbers; report_markup.cpp writes it as Markdown or HTML
 // and the figures' data as JSON for the plot script.
 
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -91,9 +93,12 @@ struct Report {
 Report build_report(const std::vector<RunSummary>& runs, const std::vector<ReferenceValue>& references,
                     const ReportOptions& options);
 
-/// The Markdown and HTML pages (figures as relative links to their PNG files).
+/// The Markdown page (figures as relative links to their PNG files).
 std::string report_markdown(const Report& report);
-std::string report_html(const Report& report);
+/// The HTML page, one file: each figure whose PNG `figure_bytes(file)` gives is embedded in it
+/// (a data: URL), the others are links to their files.
+std::string report_html(const Report& report,
+                        const std::function<std::optional<std::string>(const std::string&)>& figure_bytes = {});
 /// The data of the figures as JSON, for the plot script.
 std::string report_figures_json(const Report& report);
 
