@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 
 #include "bushel/core/input_error.hpp"
@@ -12,33 +14,63 @@
 namespace bushel::io {
 namespace {
 
-// The touching pairs of sphere elements (overlap > 0): a line between their centres with the
-// overlap and the elastic Hertz normal force 4/3 E* sqrt(R*) overlap^(3/2) (docs/physics.md
-// section 2; damping and the tangential force are left out: they depend on the step), and
-// the contacts of each element.
+// The touching pairs of sphere elements of different bodies (overlap > 0): a line between
+// their centres with the overlap and the elastic Hertz normal force 4/3 E* sqrt(R*)
+// overlap^(3/2) (docs/physics.md section 2; damping and the tangential force are left out:
+// they depend on the step), and the contacts of each element. Found here from the positions
+// (a grid of cells as wide as the largest diameter), not from the engine's neighbour list,
+// which factories and sinks leave stale between a check and the next step.
 struct Touching {
   VtuPiece lines;
   std::vector<double> per_element;
 };
 
-Touching touching_pairs(const Simulation& sim) {
-  const ParticleSystem& ps = sim.particles();
-  const NeighborList& nl = sim.neighbors();
+Touching touching_pairs(const ParticleSystem& ps) {
+  const std::size_t n = ps.spheres();
   Touching t;
-  t.per_element.assign(ps.spheres(), 0.0);
+  t.per_element.assign(n, 0.0);
   t.lines.points = ps.sphere_position;
+  double cell = 0.0;
+  for (std::size_t s = 0; s < n; ++s) cell = std::max(cell, 2.0 * ps.radius[s]);
+  // elements by cell (sorted keys), so that each looks only at the 27 cells around its own
+  const auto index = [&](double x) { return static_cast<std::int64_t>(std::floor(x / cell)); };
+  const auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+    return ((x & 0x1fffff) << 42) | ((y & 0x1fffff) << 21) | (z & 0x1fffff);
+  };
+  std::vector<std::pair<std::int64_t, std::uint32_t>> by_cell;
+  for (std::size_t s = 0; s < n; ++s) {
+    const Vec3& p = ps.sphere_position[s];
+    by_cell.emplace_back(key(index(p.x), index(p.y), index(p.z)), static_cast<std::uint32_t>(s));
+  }
+  std::sort(by_cell.begin(), by_cell.end());
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::size_t i = 0; i < n && cell > 0.0; ++i) {
+    const Vec3& p = ps.sphere_position[i];
+    const std::int64_t cx = index(p.x), cy = index(p.y), cz = index(p.z);
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const std::int64_t k = key(cx + dx, cy + dy, cz + dz);
+          auto it = std::lower_bound(by_cell.begin(), by_cell.end(), std::pair{k, std::uint32_t{0}});
+          for (; it != by_cell.end() && it->first == k; ++it) {
+            const std::uint32_t j = it->second;
+            if (j <= i || ps.owner[j] == ps.owner[i]) continue;
+            if (norm(ps.sphere_position[j] - p) < ps.radius[i] + ps.radius[j]) {
+              pairs.emplace_back(static_cast<std::uint32_t>(i), j);
+            }
+          }
+        }
+  }
+  std::sort(pairs.begin(), pairs.end());  // (in element order: the same file from the same state)
   VtuArray overlap{"overlap_m", 1, {}}, force{"normal_force_elastic_N", 1, {}};
-  for (std::size_t p = 0; p < nl.pairs(); ++p) {
-    const std::uint32_t i = nl.first(p), j = nl.second(p);
-    if (i >= ps.spheres() || j >= ps.spheres()) continue;  // (a list older than the last removal)
+  for (const auto& [i, j] : pairs) {
     const double ri = ps.radius[i], rj = ps.radius[j];
     const double d = ri + rj - norm(ps.sphere_position[j] - ps.sphere_position[i]);
-    if (!(d > 0.0)) continue;
     const Material& mi = ps.types()[ps.body_type[ps.owner[i]]].material;
     const Material& mj = ps.types()[ps.body_type[ps.owner[j]]].material;
-    const double r_star = ri * rj / (ri + rj);
     overlap.values.push_back(d);
-    force.values.push_back(4.0 / 3.0 * effective_youngs_modulus(mi, mj) * std::sqrt(r_star) * d * std::sqrt(d));
+    force.values.push_back(4.0 / 3.0 * effective_youngs_modulus(mi, mj) * std::sqrt(ri * rj / (ri + rj)) * d *
+                           std::sqrt(d));
     t.lines.connectivity.insert(t.lines.connectivity.end(), {i, j});
     t.lines.offsets.push_back(static_cast<std::uint32_t>(t.lines.connectivity.size()));
     t.lines.types.push_back(kVtkLine);
@@ -92,7 +124,7 @@ void FrameWriter::write(const Simulation& sim) {
   const std::size_t k = frames_.size();
   const std::string pname = fmt::format("particles_{:05d}.vtu", k);
   const bool need_pairs = options_.coordination || options_.contacts;
-  const Touching touching = need_pairs ? touching_pairs(sim) : Touching{};
+  const Touching touching = need_pairs ? touching_pairs(sim.particles()) : Touching{};
   write_vtu(directory_ + "/" + pname, particle_piece(sim, options_, touching), options_.encoding);
   if (options_.contacts) {
     const std::string cname = fmt::format("contacts_{:05d}.vtu", k);

@@ -579,11 +579,14 @@ TEST_F(ScenarioRun, FramesWriteTheGeometryOnlyWhenItChanges) {
 }
 
 TEST_F(ScenarioRun, FramesHoldTheContactsAskedFor) {
-  // ASCII frames with every optional field: the contact lines and the per-element counts
-  // agree (each line counts once at either end), and each line joins two elements that overlap.
+  // ASCII frames with every optional field, of 5-sphere clumps: the contact lines and the
+  // per-element counts agree (each line counts once at either end), each line joins two
+  // elements of two bodies that overlap, and every such pair has its line.
   const std::string text = replaced(
-      small, "  frames: {interval: 50 ms}\n",
-      "  frames: {interval: 50 ms, format: ascii, fields: [angular_velocity, force, coordination, contacts]}\n");
+      replaced(
+          small, "  frames: {interval: 50 ms}\n",
+          "  frames: {interval: 50 ms, format: ascii, fields: [angular_velocity, force, coordination, contacts]}\n"),
+      "grain: {diameter: 3.64 mm, material: wheat}", "grain: {template: large_5s, material: wheat}");
   run(read(text, {parse_override("parameters.count=120")}));
   const std::string pvd = io::read_text_file(path("out/frames/contacts.pvd"));
   const std::size_t at = pvd.rfind("file=\"") + 6;
@@ -610,6 +613,21 @@ TEST_F(ScenarioRun, FramesHoldTheContactsAskedFor) {
     EXPECT_LT(overlap[c], 0.05 * radius[static_cast<std::size_t>(connectivity[2 * c])]);
     EXPECT_GT(force[c], 0.0);
   }
+  // against brute force over the frame's own positions: every pair of bodies that overlaps
+  const std::size_t at_points = particles.find('>', particles.find("<DataArray", particles.find("<Points>"))) + 1;
+  std::istringstream xyz(particles.substr(at_points, particles.find("</DataArray>", at_points) - at_points));
+  std::vector<double> x;
+  for (double v; xyz >> v;) x.push_back(v);
+  const std::vector<double> body = values(particles, "body_id");
+  ASSERT_EQ(x.size(), 3 * radius.size());
+  std::size_t brute = 0;
+  for (std::size_t i = 0; i < radius.size(); ++i) {
+    for (std::size_t j = i + 1; j < radius.size(); ++j) {
+      const double d = std::hypot(x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]);
+      brute += body[i] != body[j] && d < radius[i] + radius[j] ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(brute, overlap.size());
   EXPECT_EQ(values(particles, "angular_velocity_rad_s").size(), 3 * radius.size());
   EXPECT_EQ(values(particles, "force_N").size(), 3 * radius.size());
   EXPECT_NE(particles.find("<DataArray type=\"UInt32\" Name=\"body_id\""), std::string::npos);
