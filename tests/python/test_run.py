@@ -1,6 +1,6 @@
 """The Python API against the command line: a reduced cup-pour run from Python gives the same
 final state as `bushel run` of the same scenario and overrides; a run stopped by the progress
-callback and resumed ends on that state too; a scenario given as a dict runs; the outputs read
+callback, or by Ctrl-C, and resumed ends on that state too; a scenario given as a dict runs; the outputs read
 back (results, time series with units, frames as numpy arrays, matching the summary); bad
 input raises InputError naming the key.
 
@@ -57,6 +57,17 @@ try:
     check(False, "the callback's exception is raised")
 except ZeroDivisionError:
     check(os.path.exists(f"{work}/raised/checkpoint.bin"), "a checkpoint where the callback raised")
+
+# Ctrl-C (SIGINT, sent here from the callback) stops the run with a checkpoint and raises
+# KeyboardInterrupt; resumed, it ends on the same state.
+import signal  # noqa: E402
+try:
+    bushel.run(scenario, f"{work}/ctrl_c", set=sets,
+               progress=lambda p: os.kill(os.getpid(), signal.SIGINT) if p["time_s"] >= half else None)
+    check(False, "Ctrl-C raises KeyboardInterrupt")
+except KeyboardInterrupt:
+    check(bushel.open_run(f"{work}/ctrl_c").interrupted, "Ctrl-C leaves an interrupted run")
+    check(bushel.resume(f"{work}/ctrl_c").summary["final_state_hash"] == cli_hash, "Ctrl-C, resumed: the same state")
 
 # The time series and its units, against the summary.
 ts, units = run.timeseries, run.units
