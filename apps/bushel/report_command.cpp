@@ -47,8 +47,11 @@ for f in figures:
             ax.plot([val(v) for v in s["x"]], [val(v) for v in s["y"]], marker="o", ms=3, label=s["label"])
     elif f["kind"] == "categories":
         for i, s in enumerate(f["series"]):
-            ax.plot(range(n), [val(v) for v in s["y"]], linestyle="none", marker=markers[i % len(markers)], ms=8,
-                    mfc=None if i == 0 else "none", label=s["label"])
+            # (error bars: the reference's standard deviation, where its source gives one)
+            err = [val(v) for v in s.get("yerr") or []]
+            err = err if any(e == e for e in err) else None  # (matplotlib fails on bars that are all NaN)
+            ax.errorbar(range(n), [val(v) for v in s["y"]], yerr=err, linestyle="none", marker=markers[i % len(markers)],
+                        ms=8, mfc=None if i == 0 else "none", capsize=4, label=s["label"])
     elif f["kind"] == "stacked":
         bottom = [0.0] * n
         for s in f["series"]:

@@ -46,7 +46,7 @@ std::vector<ReferenceValue> parse_reference_values(std::string_view text, const 
   const auto optional_column = [&](const char* name) {
     return t.has_column(name) ? std::optional<std::size_t>(t.column(name)) : std::nullopt;
   };
-  const auto c_scenario = optional_column("scenario"), c_unit = optional_column("unit");
+  const auto c_scenario = optional_column("scenario"), c_unit = optional_column("unit"), c_sd = optional_column("sd");
   std::vector<ReferenceValue> out;
   for (const io::CsvRow& row : t.rows()) {
     const auto field = [&](std::size_t c) -> const std::string& { return row.fields[c]; };
@@ -68,8 +68,20 @@ std::vector<ReferenceValue> parse_reference_values(std::string_view text, const 
     } catch (const InputError& e) {
       throw fail(c_value, "expected a number (its unit in the unit column): " + e.problem());
     }
+    if (c_sd && !field(*c_sd).empty()) {
+      std::optional<units::Quantity> sd;
+      try {
+        sd = units::parse_quantity(field(*c_sd) + (unit.empty() ? "" : " " + unit));
+      } catch (const InputError&) {
+      }
+      if (!sd || !(sd->value >= 0.0)) {
+        throw fail(*c_sd, "expected the standard deviation: a number of at least 0 in the unit column's unit, got '" +
+                              field(*c_sd) + "'");
+      }
+      r.sd = sd->value;
+    }
     for (std::size_t c = 0; c < t.header().size(); ++c) {
-      const bool fixed = c == c_result || c == c_value || c == c_source || c == c_scenario || c == c_unit;
+      const bool fixed = c == c_result || c == c_value || c == c_source || c == c_scenario || c == c_unit || c == c_sd;
       if (!fixed && !field(c).empty()) r.conditions.emplace_back(t.header()[c], field(c));
     }
     out.push_back(std::move(r));

@@ -278,7 +278,7 @@ void add_curve(ReportSection& s, const Group& g, const Curve& c) {
       points.push_back({value_of(*cs.run, c.x + "_" + k), value_of(*cs.run, c.y + "_" + k), k});
     }
     std::stable_sort(points.begin(), points.end(), [](const Point& a, const Point& b) { return a.x < b.x; });
-    ReportSeries series{cs.label, {}, {}};
+    ReportSeries series{cs.label, {}, {}, {}};
     for (const Point& p : points) {
       std::vector<std::string> row{cs.label, p.k, number_text(p.x * dx.factor), number_text(p.y * dy.factor)};
       for (std::size_t i = 0; i < c.others.size(); ++i) {
@@ -301,6 +301,16 @@ void add_curve(ReportSection& s, const Group& g, const Curve& c) {
 
 // --- references ----------------------------------------------------------------------------------
 
+// "826.1 ± 1.2": the value, and its standard deviation (if finite) to as many decimals.
+std::string with_spread(double value, double sd) {
+  const std::string v = number_text(value);
+  if (!std::isfinite(sd)) return v;
+  const std::size_t point = v.find('.');
+  if (v.find_first_of("eE") != std::string::npos) return v + " ± " + number_text(sd);
+  const int decimals = point == std::string::npos ? 0 : static_cast<int>(v.size() - point - 1);
+  return v + fmt::format(" ± {:.{}f}", sd, decimals);
+}
+
 void add_references(ReportSection& s, Report& report, const Group& g, const std::vector<ReferenceValue>& references) {
   const std::size_t first = report.comparisons.size();
   std::vector<std::string> results;  // with a reference in some run, in the order of the results
@@ -316,9 +326,13 @@ void add_references(ReportSection& s, Report& report, const Group& g, const std:
       for (const ReferenceValue& ref : references) {
         if (ref.result != name || !reference_applies(ref, *c.run)) continue;
         const std::string unit = known ? unit_of_runs : std::string(result_unit(ref.dimension));
-        const double reference = reference_in_unit_of(ref, RunResult{name, std::nullopt, unit, ""});
+        const RunResult in_unit{name, std::nullopt, unit, ""};
+        const double reference = reference_in_unit_of(ref, in_unit);
+        ReferenceValue spread = ref;  // (the standard deviation, converted as the value is)
+        spread.value = ref.sd.value_or(nan);
         const double sim = value_of(*c.run, name);
-        report.comparisons.push_back({c.label, name, unit, sim, reference, ref.source, (sim - reference) / reference});
+        report.comparisons.push_back({c.label, name, unit, sim, reference, reference_in_unit_of(spread, in_unit),
+                                      ref.source, (sim - reference) / reference});
         if (std::find(results.begin(), results.end(), name) == results.end()) results.push_back(name);
         auto& src = sources[name];
         if (std::find(src.begin(), src.end(), ref.source) == src.end()) src.push_back(ref.source);
@@ -328,14 +342,15 @@ void add_references(ReportSection& s, Report& report, const Group& g, const std:
   if (report.comparisons.size() == first) return;
 
   ReportTable t{{"case", "result", "bushel", "reference", "source", "difference"}, {}};
-  std::string text = "case,result,unit,bushel,reference,source,difference_pct\n";
+  std::string text = "case,result,unit,bushel,reference,reference_sd,source,difference_pct\n";
   for (std::size_t i = first; i < report.comparisons.size(); ++i) {
     const ReportComparison& c = report.comparisons[i];
     const Display d = display_of(c.unit);
     t.rows.push_back({c.case_label, labelled(c.result, d.unit), number_text(c.bushel * d.factor),
-                      number_text(c.reference * d.factor), c.source,
+                      with_spread(c.reference * d.factor, c.reference_sd * d.factor), c.source,
                       std::isfinite(c.difference) ? fmt::format("{:+.1f} %", 100.0 * c.difference) : "n/a"});
-    text += csv_line({c.case_label, c.result, c.unit, csv_number(c.bushel), csv_number(c.reference), c.source,
+    text += csv_line({c.case_label, c.result, c.unit, csv_number(c.bushel), csv_number(c.reference),
+                      std::isfinite(c.reference_sd) ? csv_number(c.reference_sd) : "", c.source,
                       csv_number(100.0 * c.difference)});
   }
   s.blocks.push_back(heading_block("Against measurements"));
@@ -346,11 +361,11 @@ void add_references(ReportSection& s, Report& report, const Group& g, const std:
     const Display d = display_of(first_of->unit);
     ReportFigure f{
         file_stem(g.scenario + "-" + name) + ".png", "categories", g.scenario, "case", labelled(name, d.unit), {}, {}};
-    f.series.push_back({"bushel", {}, {}});
-    for (const std::string& src : sources[name]) f.series.push_back({src, {}, {}});
+    f.series.push_back({"bushel", {}, {}, {}});
+    for (const std::string& src : sources[name]) f.series.push_back({src, {}, {}, {}});
     for (const Case& c : g.cases) {
       f.categories.push_back(c.label);
-      for (ReportSeries& series : f.series) series.y.push_back(nan);
+      for (ReportSeries& series : f.series) series.y.push_back(nan), series.yerr.push_back(nan);
       f.series[0].y.back() = value_of(*c.run, name) * d.factor;
     }
     for (std::size_t i = first; i < report.comparisons.size(); ++i) {
@@ -358,7 +373,9 @@ void add_references(ReportSection& s, Report& report, const Group& g, const std:
       if (c.result != name) continue;
       const auto row = std::find(f.categories.begin(), f.categories.end(), c.case_label) - f.categories.begin();
       for (ReportSeries& series : f.series) {
-        if (series.label == c.source) series.y[static_cast<std::size_t>(row)] = c.reference * d.factor;
+        if (series.label != c.source) continue;
+        series.y[static_cast<std::size_t>(row)] = c.reference * d.factor;
+        series.yerr[static_cast<std::size_t>(row)] = c.reference_sd * d.factor;  // (an error bar where it has one)
       }
     }
     s.blocks.push_back(figure_block(name + " of each case beside the measured and published values", std::move(f)));
@@ -385,7 +402,7 @@ void add_heap_profiles(ReportSection& s, std::vector<ReportCsv>& csv, const Grou
     }
     if (!stage) continue;
     for (const StageReport::Profile& p : stage->profiles) {
-      ReportSeries series{stage->profiles.size() > 1 ? c.label + " " + p.sensor : c.label, {}, {}};
+      ReportSeries series{stage->profiles.size() > 1 ? c.label + " " + p.sensor : c.label, {}, {}, {}};
       for (std::size_t i = 0; i < p.radius.size(); ++i) {
         series.x.push_back(p.radius[i] * 1e3);
         series.y.push_back(p.height[i] * 1e3);
@@ -419,7 +436,7 @@ void add_composition(ReportSection& s, const Group& g, const ReportOptions& o) {
   if (types.empty()) return;
   ReportTable t{{"case", "type", "made [mass share]", "in the sample [mass share]"}, {}};
   ReportFigure f{file_stem(g.scenario) + "-composition.png", "stacked", g.scenario, "", "mass share", {}, {}};
-  for (const std::string& type : types) f.series.push_back({type, {}, {}});
+  for (const std::string& type : types) f.series.push_back({type, {}, {}, {}});
   for (const Case& c : g.cases) {
     double total = 0.0;
     std::map<std::string, double> made;

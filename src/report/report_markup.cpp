@@ -168,7 +168,7 @@ std::string report_figures_json(const Report& report) {
   for (const ReportFigure* f : report.figures()) {
     nlohmann::ordered_json series = nlohmann::ordered_json::array();
     for (const ReportSeries& s : f->series) {
-      series.push_back({{"label", s.label}, {"x", numbers(s.x)}, {"y", numbers(s.y)}});
+      series.push_back({{"label", s.label}, {"x", numbers(s.x)}, {"y", numbers(s.y)}, {"yerr", numbers(s.yerr)}});
     }
     figures.push_back({{"file", f->file},
                        {"kind", f->kind},

@@ -15,7 +15,7 @@ out=$("$bushel" report "$cup" "$stopped" --out "$work/rep" --no-plots)
 md=$(cat "$work/rep/report.md")
 [[ $md == *"## cup-pour"* && $md == *"## calibration-cup"* ]] || fail "sections: $md"
 [[ $md == *"interrupted at 0.0"* ]] || fail "the interrupted run's status: $md"
-[[ $md == *"| bulk_density [kg/m3] | n/a | 826.1 | lab (study"* ]] || fail "comparison row: $md"
+[[ $md == *"| bulk_density [kg/m3] | n/a | 826.1 ± 1.2 | lab (study"* ]] || fail "comparison row: $md"
 [[ -s "$work/rep/report.html" && -s "$work/rep/figures.json" ]] || fail "html or figures.json missing"
 
 # The CSV holds the summary's values to 10 digits.

@@ -56,10 +56,10 @@ const ReportFigure* figure_named(const Report& r, const std::string& file) {
 }
 
 const char* reference_csv = R"(# comment lines are skipped
-scenario,result,fraction,drop,value,unit,source
-cup,bulk_density,large,,826.1,kg/m3,lab
-tw,bulk_density,,5.1 cm,62.69,lb/bu,lab tw
-cup,heap_angle,,,30,deg,photo
+scenario,result,fraction,drop,value,unit,sd,source
+cup,bulk_density,large,,826.1,kg/m3,1.2,lab
+tw,bulk_density,,5.1 cm,62.69,lb/bu,0.5,lab tw
+cup,heap_angle,,,30,deg,,photo
 )";
 
 TEST(ReferenceValues, MatchRunsByScenarioAndParametersAsQuantities) {
@@ -70,6 +70,10 @@ TEST(ReferenceValues, MatchRunsByScenarioAndParametersAsQuantities) {
   EXPECT_EQ(refs[0].dimension, units::dim::density);
   ASSERT_EQ(refs[0].conditions.size(), 1u);
   EXPECT_EQ(refs[0].conditions[0], (std::pair<std::string, std::string>{"fraction", "large"}));
+  // the standard deviation in the value's unit (not a condition); none where the cell is empty
+  EXPECT_NEAR(*refs[0].sd, 1.2, 1e-12);
+  EXPECT_NEAR(*refs[1].sd, 0.5 * 12.8719, 0.5 * 1e-4);
+  EXPECT_FALSE(refs[2].sd.has_value());
 
   const RunSummary cup = summary("c", "cup", {{"fraction", "Large"}, {"drop", "5.1cm"}}, {});
   const RunSummary cup_small = summary("c", "cup", {{"fraction", "small"}}, {});
@@ -99,6 +103,10 @@ TEST(ReferenceValues, BadTablesNameTheFileLineAndColumn) {
   e = error_of([] { parse_reference_values("result,value,unit,source\nbd,826.1,kg/m4,lab\n", "r.csv"); });
   EXPECT_NE(e.find("r.csv:2"), std::string::npos) << e;
   EXPECT_NE(e.find("key 'value'"), std::string::npos) << e;
+  e = error_of([] { parse_reference_values("result,value,unit,sd,source\nbd,826.1,kg/m3,-1,lab\n", "r.csv"); });
+  EXPECT_NE(e.find("r.csv:2"), std::string::npos) << e;
+  EXPECT_NE(e.find("key 'sd'"), std::string::npos) << e;
+  EXPECT_NE(e.find("at least 0"), std::string::npos) << e;
   e = error_of([] { parse_reference_values("result,value,source\n,1,lab\n", "r.csv"); });
   EXPECT_NE(e.find("r.csv:2"), std::string::npos) << e;
   EXPECT_NE(e.find("expected the name of a result"), std::string::npos) << e;
@@ -145,7 +153,10 @@ TEST(Report, LabelsCasesComparesWithReferencesAndWritesCsv) {
   ASSERT_EQ(f->series.size(), 2u);  // bushel, lab
   EXPECT_EQ(f->series[1].label, "lab");
   EXPECT_NEAR(f->series[1].y[0], 826.1, 1e-12);
-  EXPECT_TRUE(std::isnan(f->series[1].y[2]));  // the medium fraction has no reference here
+  EXPECT_NEAR(f->series[1].yerr[0], 1.2, 1e-12);  // its error bar
+  EXPECT_TRUE(std::isnan(f->series[1].y[2]));     // the medium fraction has no reference here
+  EXPECT_TRUE(std::isnan(f->series[0].yerr[0]));  // bushel's points have none
+  EXPECT_NEAR(r.comparisons[0].reference_sd, 1.2, 1e-12);
 
   const auto csv = std::find_if(r.csv_files.begin(), r.csv_files.end(),
                                 [](const ReportCsv& c) { return c.file == "cup-results.csv"; });
@@ -158,7 +169,7 @@ TEST(Report, LabelsCasesComparesWithReferencesAndWritesCsv) {
 
   const std::string md = report_markdown(r);
   EXPECT_NE(md.find("| a/cup-1 | large | 325 g | 817.8 |"), std::string::npos) << md;
-  EXPECT_NE(md.find("| a/cup-1 | bulk_density [kg/m3] | 817.8 | 826.1 | lab | -1.0 % |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| a/cup-1 | bulk_density [kg/m3] | 817.8 | 826.1 ± 1.2 | lab | -1.0 % |"), std::string::npos) << md;
   EXPECT_NE(md.find("![bulk_density of each case"), std::string::npos);
   const auto figures = nlohmann::json::parse(report_figures_json(r));
   EXPECT_EQ(figures.size(), r.figures().size());

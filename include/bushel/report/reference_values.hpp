@@ -1,6 +1,6 @@
 #pragma once
 // Measured or published values that a run's results are set against in `bushel report`: a CSV
-// with the columns scenario, result, value, unit and source, and any number of parameter
+// with the columns scenario, result, value, unit, sd and source, and any number of parameter
 // columns that a run must match (data/reference_values.csv, built in, holds the reference
 // wheat study's values).
 
@@ -22,12 +22,14 @@ struct ReferenceValue {
   std::vector<std::pair<std::string, std::string>> conditions;
   double value = 0.0;  ///< [SI; radians for angles]
   units::Dimension dimension;
-  std::string source;  ///< where it comes from ("lab (study; 10 replicates)")
-  std::string origin;  ///< "file:line", for messages
+  std::optional<double> sd;  ///< its standard deviation where the source gives one [as value]
+  std::string source;        ///< where it comes from ("lab (study; 10 replicates)")
+  std::string origin;        ///< "file:line", for messages
 };
 
 /// Parses a reference table; `source` names it in errors. Throws InputError (file, line,
-/// column) for a missing column, an empty result, source or value, or a value with a bad unit.
+/// column) for a missing column, an empty result, source or value, or a value with a bad unit,
+/// or a standard deviation (optional column sd, in the value's unit) that is negative or not a number.
 std::vector<ReferenceValue> parse_reference_values(std::string_view text, const std::string& source);
 
 /// Reads a reference table from a file.

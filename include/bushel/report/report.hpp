@@ -40,6 +40,7 @@ struct ReportTable {
 struct ReportSeries {
   std::string label;
   std::vector<double> x, y;  ///< x ignored for category plots; NaN: no point
+  std::vector<double> yerr;  ///< per point, its standard deviation for an error bar (NaN: none); empty: none
 };
 struct ReportFigure {
   std::string file;  ///< PNG file name, in the report's folder
@@ -75,6 +76,7 @@ struct ReportComparison {
   std::string unit;     ///< of both values: the summary's (SI, degrees for angles)
   double bushel = 0.0;  ///< the run's value; NaN if it has none
   double reference = 0.0;
+  double reference_sd = 0.0;  ///< the reference's standard deviation; NaN if its source gives none
   std::string source;
   double difference = 0.0;  ///< (bushel - reference) / reference
 };
