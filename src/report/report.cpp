@@ -9,6 +9,7 @@
 #include <map>
 
 #include "bushel/core/input_error.hpp"
+#include "bushel/io/csv.hpp"
 #include "bushel/scenario/scenario.hpp"
 
 namespace bushel {
@@ -464,6 +465,51 @@ void add_composition(ReportSection& s, const Group& g, const ReportOptions& o) {
   s.blocks.push_back(table_block("", std::move(t)));
 }
 
+// --- time series ---------------------------------------------------------------------------------
+
+// The kinetic energy (in all or per particle) and the mass in each sensor over time, a line
+// per case, from the runs' timeseries.csv (where it is beside the summary and has those
+// columns), at most max_points points a line.
+void add_time_series(ReportSection& s, const Group& g) {
+  constexpr std::size_t max_points = 2000;
+  std::vector<std::string> names;  // the columns drawn, in the order first met
+  std::map<std::string, ReportFigure> figures;
+  for (const Case& c : g.cases) {
+    const std::filesystem::path path = std::filesystem::path(c.run->directory) / "timeseries.csv";
+    std::error_code missing;
+    if (!std::filesystem::exists(path, missing)) continue;
+    const io::CsvTable t = io::CsvTable::read(path.string());
+    if (!t.has_column("time") || t.rows().empty()) continue;
+    const std::size_t c_time = t.column("time"), step = (t.rows().size() + max_points - 1) / max_points;
+    for (std::size_t k = 0; k < t.header().size(); ++k) {
+      const std::string& name = t.header()[k];
+      const bool mass = name.size() > 5 && name.ends_with(".mass");
+      const bool energy = name == "kinetic_energy" || name == "kinetic_energy_per_particle";
+      if (!energy && !mass) continue;
+      auto [it, fresh] = figures.try_emplace(name);
+      ReportFigure& f = it->second;
+      if (fresh) {
+        names.push_back(name);
+        const std::string unit = mass ? " [g]" : " [J]";
+        f = {file_stem(g.scenario + "-series-" + name) + ".png", "lines", g.scenario, "time [s]", name + unit, {}, {}};
+      }
+      ReportSeries line{c.label, {}, {}, {}};
+      for (std::size_t r = 0; r < t.rows().size(); r += step) {
+        line.x.push_back(t.number(t.rows()[r], c_time));
+        line.y.push_back(t.number(t.rows()[r], k) * (mass ? 1e3 : 1.0));
+      }
+      f.series.push_back(std::move(line));
+    }
+  }
+  if (names.empty()) return;
+  s.blocks.push_back(heading_block("Time series"));
+  for (const std::string& name : names) {
+    const std::string what = name.ends_with(".mass") ? "Mass in sensor " + name.substr(0, name.size() - 5)
+                                                     : std::string("Kinetic energy of the grain");
+    s.blocks.push_back(figure_block(what + " (timeseries.csv: " + name + ")", std::move(figures[name])));
+  }
+}
+
 // --- one scenario --------------------------------------------------------------------------------
 
 ReportSection scenario_section(const Group& g, const std::vector<ReferenceValue>& references, const ReportOptions& o,
@@ -541,6 +587,7 @@ ReportSection scenario_section(const Group& g, const std::vector<ReferenceValue>
   for (const Curve& c : curves) add_curve(s, g, c);
   add_heap_profiles(s, csv, g, o);
   add_composition(s, g, o);
+  add_time_series(s, g);
   return s;
 }
 

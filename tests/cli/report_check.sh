@@ -47,6 +47,10 @@ for png in glob.glob(sys.argv[1] + "/*.png"):
     assert '<img src="data:image/png;base64,' + base64.b64encode(open(png, "rb").read()).decode() + '"' in html, png
 PY
   grep -q '<div class="wide"><table>' "$work/plots/report.html" || fail "tables not kept within the page"
+  # the time series of the runs: kinetic energy and the mass in the sensor over time
+  [[ -s "$work/plots/cup-pour-series-cup.mass.png" && -s "$work/plots/cup-pour-series-kinetic_energy_per_particle.png" ]] ||
+    fail "time series not drawn: $(ls "$work/plots")"
+  grep -q '<h3>Time series</h3>' "$work/plots/report.html" || fail "no time series section"
 fi
 
 # Bad input: one line naming what was wrong.
