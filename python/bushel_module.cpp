@@ -2,6 +2,7 @@
 // run, particle templates, units and grain formulas. Values are SI; every quantity may also be
 // given as a string with its unit ("5.42 mm"). The package's Python modules read a run's
 // outputs (runs.py, frames.py).
+#include <pybind11/eigen.h>
 #include <pybind11/functional.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -11,7 +12,10 @@
 #include "bushel/analysis/grain_trade.hpp"
 #include "bushel/analysis/kernel_shape.hpp"
 #include "bushel/contact/time_scales.hpp"
+#include "bushel/core/choice.hpp"
 #include "bushel/core/input_error.hpp"
+#include "bushel/doe/design.hpp"
+#include "bushel/doe/regression.hpp"
 #include "bushel/particles/material.hpp"
 #include "bushel/particles/pseudo_ellipsoid.hpp"
 #include "bushel/particles/template_library.hpp"
@@ -114,6 +118,31 @@ py::dict run(const std::string& source, bool is_text, const std::vector<std::str
   d["signal"] = r.signal;
   d["failed"] = r.failed;
   return d;
+}
+
+// A designed experiment in coded units (bushel/doe/design.hpp), its runs in standard order.
+py::dict design(const std::string& kind, int factors, int runs, int centre, const std::string& ccd, int blocks,
+                const py::object& seed) {
+  namespace doe = bushel::doe;
+  const auto seed_or = [&](const char* what) {
+    if (seed.is_none()) throw bushel::InputError(std::string("a ") + what + " needs a seed").with_key("seed");
+    return seed.cast<std::uint64_t>();
+  };
+  const doe::Design d = bushel::parse_choice<std::function<doe::Design()>>(
+      kind, {{"plackett-burman", [&] { return doe::plackett_burman(factors, runs); }},
+             {"factorial", [&] { return doe::factorial(factors, 0, centre); }},
+             {"ccd", [&] { return doe::central_composite(factors, doe::parse_ccd_type(ccd), centre, blocks); }},
+             {"box-behnken", [&] { return doe::box_behnken(factors, centre); }},
+             {"lhs", [&] { return doe::latin_hypercube(factors, runs, seed_or("latin hypercube")); }}})();
+  doe::Design shuffled = d;
+  if (!seed.is_none() && kind != "lhs") doe::randomize(shuffled, seed.cast<std::uint64_t>());
+  py::dict out;
+  out["kind"] = d.kind;
+  out["coded"] = d.coded;
+  out["block"] = d.block;
+  out["centre"] = d.centre;
+  out["run_order"] = shuffled.run_order;
+  return out;
 }
 
 py::dict describe(const bushel::ParticleTemplate& t, double density) {
@@ -242,6 +271,51 @@ PYBIND11_MODULE(_bushel, m) {
         return d;
       },
       py::arg("source"), py::arg("is_text"), py::arg("sets"));
+  m.def("_design", &design, py::arg("kind"), py::arg("factors"), py::arg("runs"), py::arg("centre"), py::arg("ccd"),
+        py::arg("blocks"), py::arg("seed"));
+  namespace doe = bushel::doe;
+  py::class_<doe::Fit>(m, "_Fit")
+      .def_readonly("factors", &doe::Fit::factors)
+      .def_readonly("s", &doe::Fit::s)
+      .def_readonly("r2", &doe::Fit::r2)
+      .def_readonly("r2_adjusted", &doe::Fit::r2_adjusted)
+      .def_readonly("r2_predicted", &doe::Fit::r2_predicted)
+      .def_readonly("runs", &doe::Fit::runs)
+      .def_readonly("error_df", &doe::Fit::error_df)
+      .def_property_readonly(
+          "coefficients",
+          [](const doe::Fit& f) {
+            py::list out;
+            for (const auto& c : f.coefficients) {
+              out.append(py::dict(py::arg("term") = c.term, py::arg("coef") = c.coef, py::arg("se") = c.se,
+                                  py::arg("t") = c.t, py::arg("p") = c.p, py::arg("effect") = c.effect,
+                                  py::arg("significant") = c.significant));
+            }
+            return out;
+          })
+      .def_property_readonly(
+          "anova",
+          [](const doe::Fit& f) {
+            py::list out;
+            for (const auto& a : f.anova) {
+              out.append(py::dict(py::arg("source") = a.source, py::arg("df") = a.df, py::arg("ss") = a.ss,
+                                  py::arg("ms") = a.ms, py::arg("f") = a.f, py::arg("p") = a.p));
+            }
+            return out;
+          })
+      .def("predict", &doe::Fit::predict, py::arg("coded"))
+      .def("prediction_half_width", &doe::Fit::prediction_half_width, py::arg("coded"), py::arg("alpha"))
+      .def(
+          "solve_for_target",
+          [](const doe::Fit& f, double target, double limit, const Eigen::VectorXd& start,
+             const std::vector<bool>& fixed) { return doe::solve_for_target(f, target, limit, start, fixed); },
+          py::arg("target"), py::arg("limit"), py::arg("start"), py::arg("fixed"));
+  m.def(
+      "_fit",
+      [](const Eigen::MatrixXd& coded, const Eigen::VectorXd& y, const std::vector<std::string>& factors,
+         const std::string& model,
+         double alpha) { return doe::fit(coded, y, factors, doe::parse_model(model), alpha); },
+      py::arg("coded"), py::arg("y"), py::arg("factors"), py::arg("model"), py::arg("alpha"));
   m.def("_run", &run, py::arg("source"), py::arg("is_text"), py::arg("sets"), py::arg("out"), py::arg("resume"),
         py::arg("threads"), py::arg("overwrite"), py::arg("stop_at"), py::arg("checkpoint_minutes"),
         py::arg("progress"));

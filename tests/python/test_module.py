@@ -30,4 +30,29 @@ for bad in (lambda: bushel.parse("6.12", "length"), lambda: bushel.template("no_
         check(False, "bad input raises")
     except ValueError as e:
         check("expected" in str(e) or "unknown" in str(e), str(e))
+# Designed experiments: a design in the factors' units; the study's response surface
+# (data/rsm_5sphere_large_table3_10.csv) refitted from Python, and the settings it solves for
+# predict the target.
+import csv, os  # noqa: E401,E402
+d = bushel.doe.design("ccd", {"a": (0.2, 0.4), "b": (10, 30)}, centre=3, seed=7)
+check(d.coded.shape == (11, 2) and sorted(d.run_order) == list(range(1, 12)), "ccd of 2 factors, 3 centre points")
+check(abs(d.values["b"].max() - (20 + 10 * 2 ** 0.5)) < 1e-9, "axial points at alpha in the factor's units")
+root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+rows = list(csv.DictReader(l for l in open(os.path.join(root, "data", "rsm_5sphere_large_table3_10.csv"))
+                           if not l.startswith("#")))
+factors = ["fs_ww", "fr_ww", "e_ww", "fs_ws"]
+values = {f: [float(r[f]) for r in rows] for f in factors}
+ranges = {f: (min(v), max(v)) for f, v in values.items()}
+m = bushel.doe.fit(values, [float(r["bulk_density"]) for r in rows], ranges, model="quadratic")
+check(m.runs == 30 and abs(m.r2 - 0.99920) < 5e-5, f"R2 {m.r2}, as `bushel doe analyze` reports it (99.92 %)")
+at = m.solve(826.1, fixed={"fr_ww": ranges["fr_ww"][0]})
+check(abs(m.predict(at) - 826.1) < 0.05, f"solved settings predict the target: {m.predict(at)}")
+lo, hi = m.prediction_interval(at)
+check(lo < 826.1 < hi, "the target inside its prediction interval")
+for bad in (lambda: bushel.doe.design("ccc", {"a": (0, 1)}), lambda: bushel.doe.design("lhs", {"a": (0, 1)}, runs=5)):
+    try:
+        bad()
+        check(False, "bad design raises")
+    except ValueError as e:
+        check("did you mean" in str(e) or "seed" in str(e), str(e))
 print("1 passed, 0 failed")
