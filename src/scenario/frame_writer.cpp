@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <filesystem>
 
+#include "bushel/contact/neighbor_list.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/io/atomic_file.hpp"
 #include "bushel/io/binary_archive.hpp"
@@ -17,9 +17,9 @@ namespace {
 // The touching pairs of sphere elements of different bodies (overlap > 0): a line between
 // their centres with the overlap and the elastic Hertz normal force 4/3 E* sqrt(R*)
 // overlap^(3/2) (docs/physics.md section 2; damping and the tangential force are left out:
-// they depend on the step), and the contacts of each element. Found here from the positions
-// (a grid of cells as wide as the largest diameter), not from the engine's neighbour list,
-// which factories and sinks leave stale between a check and the next step.
+// they depend on the step), and the contacts of each element. The candidates come from the
+// engine's neighbour search run afresh over the current positions (the simulation's own list
+// is left stale by factories and sinks between a check and the next step).
 struct Touching {
   VtuPiece lines;
   std::vector<double> per_element;
@@ -30,42 +30,16 @@ Touching touching_pairs(const ParticleSystem& ps) {
   Touching t;
   t.per_element.assign(n, 0.0);
   t.lines.points = ps.sphere_position;
-  double cell = 0.0;
-  for (std::size_t s = 0; s < n; ++s) cell = std::max(cell, 2.0 * ps.radius[s]);
-  // elements by cell (sorted keys), so that each looks only at the 27 cells around its own
-  const auto index = [&](double x) { return static_cast<std::int64_t>(std::floor(x / cell)); };
-  const auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
-    return ((x & 0x1fffff) << 42) | ((y & 0x1fffff) << 21) | (z & 0x1fffff);
-  };
-  std::vector<std::pair<std::int64_t, std::uint32_t>> by_cell;
-  for (std::size_t s = 0; s < n; ++s) {
-    const Vec3& p = ps.sphere_position[s];
-    by_cell.emplace_back(key(index(p.x), index(p.y), index(p.z)), static_cast<std::uint32_t>(s));
-  }
-  std::sort(by_cell.begin(), by_cell.end());
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-  for (std::size_t i = 0; i < n && cell > 0.0; ++i) {
-    const Vec3& p = ps.sphere_position[i];
-    const std::int64_t cx = index(p.x), cy = index(p.y), cz = index(p.z);
-    for (std::int64_t dx = -1; dx <= 1; ++dx)
-      for (std::int64_t dy = -1; dy <= 1; ++dy)
-        for (std::int64_t dz = -1; dz <= 1; ++dz) {
-          const std::int64_t k = key(cx + dx, cy + dy, cz + dz);
-          auto it = std::lower_bound(by_cell.begin(), by_cell.end(), std::pair{k, std::uint32_t{0}});
-          for (; it != by_cell.end() && it->first == k; ++it) {
-            const std::uint32_t j = it->second;
-            if (j <= i || ps.owner[j] == ps.owner[i]) continue;
-            if (norm(ps.sphere_position[j] - p) < ps.radius[i] + ps.radius[j]) {
-              pairs.emplace_back(static_cast<std::uint32_t>(i), j);
-            }
-          }
-        }
-  }
-  std::sort(pairs.begin(), pairs.end());  // (in element order: the same file from the same state)
+  // (any positive skin serves: the pairs listed are filtered by overlap below)
+  const double r_min = n > 0 ? *std::min_element(ps.radius.begin(), ps.radius.end()) : 1.0;
+  NeighborList candidates(1e-3 * r_min, 0);
+  candidates.build(ps.sphere_position, ps.radius, ps.owner, ps.sphere_id);
   VtuArray overlap{"overlap_m", 1, {}}, force{"normal_force_elastic_N", 1, {}};
-  for (const auto& [i, j] : pairs) {
+  for (std::size_t p = 0; p < candidates.pairs(); ++p) {
+    const std::uint32_t i = candidates.first(p), j = candidates.second(p);
     const double ri = ps.radius[i], rj = ps.radius[j];
     const double d = ri + rj - norm(ps.sphere_position[j] - ps.sphere_position[i]);
+    if (!(d > 0.0)) continue;
     const Material& mi = ps.types()[ps.body_type[ps.owner[i]]].material;
     const Material& mj = ps.types()[ps.body_type[ps.owner[j]]].material;
     overlap.values.push_back(d);
@@ -157,7 +131,7 @@ void FrameWriter::write_geometry(const Simulation& sim, std::size_t k) {
   VtuPiece geometry = surface_piece(all);
   geometry.cell_data.push_back(std::move(part));
   std::string bytes = vtu_file(geometry, options_.encoding);
-  if (bytes != last_geometry_ || geometry_frames_.empty()) {
+  if (bytes != last_geometry_) {  // (nothing written yet: last_geometry_ is empty)
     const std::string gname = fmt::format("geometry_{:05d}.vtu", k);
     write_file_atomically(directory_ + "/" + gname, bytes);
     last_geometry_ = std::move(bytes);
