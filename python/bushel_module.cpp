@@ -7,8 +7,6 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <csignal>
-
 #include "bushel/analysis/grain_trade.hpp"
 #include "bushel/analysis/kernel_shape.hpp"
 #include "bushel/contact/time_scales.hpp"
@@ -128,20 +126,20 @@ py::dict design(const std::string& kind, int factors, int runs, int centre, cons
     if (seed.is_none()) throw bushel::InputError(std::string("a ") + what + " needs a seed").with_key("seed");
     return seed.cast<std::uint64_t>();
   };
-  const doe::Design d = bushel::parse_choice<std::function<doe::Design()>>(
+  doe::Design d = bushel::parse_choice<std::function<doe::Design()>>(
       kind, {{"plackett-burman", [&] { return doe::plackett_burman(factors, runs); }},
              {"factorial", [&] { return doe::factorial(factors, 0, centre); }},
              {"ccd", [&] { return doe::central_composite(factors, doe::parse_ccd_type(ccd), centre, blocks); }},
              {"box-behnken", [&] { return doe::box_behnken(factors, centre); }},
              {"lhs", [&] { return doe::latin_hypercube(factors, runs, seed_or("latin hypercube")); }}})();
-  doe::Design shuffled = d;
-  if (!seed.is_none() && kind != "lhs") doe::randomize(shuffled, seed.cast<std::uint64_t>());
+  // (a shuffle of the run order only; the runs stay in standard order)
+  if (!seed.is_none() && kind != "lhs") doe::randomize(d, seed.cast<std::uint64_t>());
   py::dict out;
   out["kind"] = d.kind;
   out["coded"] = d.coded;
   out["block"] = d.block;
   out["centre"] = d.centre;
-  out["run_order"] = shuffled.run_order;
+  out["run_order"] = d.run_order;
   return out;
 }
 

@@ -23,6 +23,16 @@ def _ranges(ranges):
     return names, low, high
 
 
+def _coded(x, low, high):
+    """Factors' values (last axis in the order of the ranges) -> coded levels (-1 .. 1)."""
+    return (np.asarray(x, dtype=float) - (low + high) / 2) / ((high - low) / 2)
+
+
+def _uncoded(coded, low, high):
+    """Coded levels -> the factors' values."""
+    return (low + high) / 2 + np.asarray(coded, dtype=float) * (high - low) / 2
+
+
 @dataclass
 class Design:
     """Runs in standard order: coded levels (-1 .. 1) and the factors' values."""
@@ -48,7 +58,8 @@ def design(kind, ranges, runs=None, centre=0, ccd="circumscribed", blocks=1, see
     names, low, high = _ranges(ranges)
     d = _design(kind, len(names), int(runs or 0), int(centre), ccd, int(blocks), seed)
     coded = np.asarray(d["coded"])
-    values = {n: (low[i] + high[i]) / 2 + coded[:, i] * (high[i] - low[i]) / 2 for i, n in enumerate(names)}
+    x = _uncoded(coded, low, high)
+    values = {n: x[:, i] for i, n in enumerate(names)}
     return Design(d["kind"], dict(ranges), coded, values, np.asarray(d["block"]), np.asarray(d["centre"]),
                   np.asarray(d["run_order"]))
 
@@ -65,13 +76,11 @@ class Model:
 
     def coded(self, point):
         """{name: value} -> coded levels."""
-        x = np.array([float(point[n]) for n in self._names])
-        return (x - (self._low + self._high) / 2) / ((self._high - self._low) / 2)
+        return _coded([float(point[n]) for n in self._names], self._low, self._high)
 
     def value(self, coded):
         """Coded levels -> {name: value}."""
-        x = (self._low + self._high) / 2 + np.asarray(coded) * (self._high - self._low) / 2
-        return {n: float(v) for n, v in zip(self._names, x)}
+        return {n: float(v) for n, v in zip(self._names, _uncoded(coded, self._low, self._high))}
 
     def predict(self, point):
         """The fitted response at {name: value}."""
@@ -97,6 +106,5 @@ def fit(values, y, ranges, model="quadratic", alpha=0.1):
     """Fits `model` ("main", "interactions", "quadratic") to responses `y` at the runs'
     `values` ({name: array}, in the units of `ranges`, {name: (low, high)}: the coding)."""
     names, low, high = _ranges(ranges)
-    x = np.column_stack([np.asarray(values[n], dtype=float) for n in names])
-    coded = (x - (low + high) / 2) / ((high - low) / 2)
+    coded = _coded(np.column_stack([np.asarray(values[n], dtype=float) for n in names]), low, high)
     return Model(_fit(coded, np.asarray(y, dtype=float), names, model, float(alpha)), ranges)
