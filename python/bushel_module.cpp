@@ -10,9 +10,11 @@
 #include "bushel/analysis/grain_trade.hpp"
 #include "bushel/analysis/kernel_shape.hpp"
 #include "bushel/contact/time_scales.hpp"
+#include "bushel/core/build_info.hpp"
 #include "bushel/core/choice.hpp"
 #include "bushel/core/input_error.hpp"
 #include "bushel/doe/design.hpp"
+#include "bushel/doe/desirability.hpp"
 #include "bushel/doe/regression.hpp"
 #include "bushel/particles/material.hpp"
 #include "bushel/particles/pseudo_ellipsoid.hpp"
@@ -119,8 +121,9 @@ py::dict run(const std::string& source, bool is_text, const std::vector<std::str
 }
 
 // A designed experiment in coded units (bushel/doe/design.hpp), its runs in standard order.
-py::dict design(const std::string& kind, int factors, int runs, int centre, const std::string& ccd, int blocks,
-                const py::object& seed) {
+py::dict design(const std::string& kind, const std::vector<bushel::doe::Factor>& factor_levels, int runs, int centre,
+                const std::string& ccd, int blocks, const py::object& seed) {
+  const int factors = static_cast<int>(factor_levels.size());
   namespace doe = bushel::doe;
   const auto seed_or = [&](const char* what) {
     if (seed.is_none()) throw bushel::InputError(std::string("a ") + what + " needs a seed").with_key("seed");
@@ -140,6 +143,10 @@ py::dict design(const std::string& kind, int factors, int runs, int centre, cons
   out["block"] = d.block;
   out["centre"] = d.centre;
   out["run_order"] = d.run_order;
+  std::vector<int> types;
+  for (Eigen::Index r = 0; r < d.runs(); ++r) types.push_back(doe::point_type(d, r));
+  out["point_type"] = types;
+  out["csv"] = doe::design_csv(d, factor_levels);
   return out;
 }
 
@@ -269,9 +276,12 @@ PYBIND11_MODULE(_bushel, m) {
         return d;
       },
       py::arg("source"), py::arg("is_text"), py::arg("sets"));
+  namespace doe = bushel::doe;
+  py::class_<doe::Factor>(m, "_Factor").def(py::init([](std::string name, double low, double high) {
+    return doe::Factor{std::move(name), low, high};
+  }));
   m.def("_design", &design, py::arg("kind"), py::arg("factors"), py::arg("runs"), py::arg("centre"), py::arg("ccd"),
         py::arg("blocks"), py::arg("seed"));
-  namespace doe = bushel::doe;
   py::class_<doe::Fit>(m, "_Fit")
       .def_readonly("factors", &doe::Fit::factors)
       .def_readonly("s", &doe::Fit::s)
@@ -314,6 +324,24 @@ PYBIND11_MODULE(_bushel, m) {
          const std::string& model,
          double alpha) { return doe::fit(coded, y, factors, doe::parse_model(model), alpha); },
       py::arg("coded"), py::arg("y"), py::arg("factors"), py::arg("model"), py::arg("alpha"));
+  m.def("_build", [] { return bushel::build_description(); });
+  m.def(
+      "_maximize_desirability",
+      [](const std::vector<const doe::Fit*>& fits, const std::vector<std::string>& goals,
+         const std::vector<double>& weights, double limit, const Eigen::VectorXd& start,
+         const std::vector<bool>& fixed) {
+        std::vector<doe::Fit> models;
+        std::vector<doe::ResponseGoal> parsed;
+        for (std::size_t i = 0; i < fits.size(); ++i) {
+          models.push_back(*fits[i]);
+          parsed.push_back(doe::parse_goal(goals[i]));
+          parsed.back().weight = weights[i];
+        }
+        const doe::Compromise c = doe::maximize_desirability(models, parsed, limit, start, fixed);
+        return py::dict(py::arg("coded") = c.coded, py::arg("composite") = c.composite,
+                        py::arg("predicted") = c.predicted, py::arg("individual") = c.individual);
+      },
+      py::arg("fits"), py::arg("goals"), py::arg("weights"), py::arg("limit"), py::arg("start"), py::arg("fixed"));
   m.def("_run", &run, py::arg("source"), py::arg("is_text"), py::arg("sets"), py::arg("out"), py::arg("resume"),
         py::arg("threads"), py::arg("overwrite"), py::arg("stop_at"), py::arg("checkpoint_minutes"),
         py::arg("progress"));

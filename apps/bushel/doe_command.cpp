@@ -372,16 +372,6 @@ void run_optimize(const DoeOptions& o) {
              predicted + half);
 }
 
-// Minitab's point types: 1 corner, 0 centre, -1 axial, 2 edge (Box-Behnken).
-int point_type(const doe::Design& d, Eigen::Index r) {
-  if (d.centre[static_cast<std::size_t>(r)]) return 0;
-  int nonzero = 0;
-  for (Eigen::Index c = 0; c < d.coded.cols(); ++c) nonzero += d.coded(r, c) != 0.0 ? 1 : 0;
-  if (d.kind == "ccd" && nonzero == 1) return -1;
-  if (d.kind == "box-behnken") return 2;
-  return 1;
-}
-
 void run_design(const DoeOptions& o) {
   const auto levels = parse_levels(o.factors, "--factors");
   // parse_levels sorts by name; keep the order given.
@@ -423,20 +413,7 @@ void run_design(const DoeOptions& o) {
     throw keyed(e);
   }
   if (!o.no_randomize) doe::randomize(d, o.seed);
-  std::string csv = "std_order,run_order,center_pt,block";
-  for (const doe::Factor& f : factors) csv += "," + f.name;
-  csv += "\n";
-  std::vector<Eigen::Index> by_run(static_cast<std::size_t>(d.runs()));
-  for (Eigen::Index r = 0; r < d.runs(); ++r)
-    by_run[static_cast<std::size_t>(d.run_order[static_cast<std::size_t>(r)] - 1)] = r;
-  for (const Eigen::Index r : by_run) {
-    csv += fmt::format("{},{},{},{}", r + 1, d.run_order[static_cast<std::size_t>(r)], point_type(d, r),
-                       d.block[static_cast<std::size_t>(r)]);
-    for (std::size_t f = 0; f < factors.size(); ++f) {
-      csv += fmt::format(",{:.6g}", factors[f].decode(d.coded(r, static_cast<Eigen::Index>(f))));
-    }
-    csv += "\n";
-  }
+  const std::string csv = doe::design_csv(d, factors);
   if (o.out.empty()) {
     fmt::print("{}", csv);
     return;

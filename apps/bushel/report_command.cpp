@@ -28,8 +28,9 @@ struct ReportCommandOptions {
 };
 
 // Draws each figure of report_figures_json: "lines" (x, y per series), "categories" (a point
-// per case and series; the first series filled, the references hollow) and "stacked" (bars of
-// shares), the legend beside the axes. Each PNG is written under a temporary name and renamed, so none is ever half
+// per case and series; the first series filled, the references hollow), "stacked" (bars of
+// shares), the legend beside the axes, and "frame" (a run's last frame, by the bushel package
+// in argv[3]). Each PNG is written under a temporary name and renamed, so none is ever half
 // written.
 constexpr const char* plot_script = R"py(
 import json, os, sys
@@ -37,9 +38,15 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 figures = json.load(open(sys.argv[1])); out = sys.argv[2]
+if len(sys.argv) > 3 and sys.argv[3]:
+    sys.path.insert(0, sys.argv[3])  # this build's bushel package, for the frames
 val = lambda v: float("nan") if v is None else v
 markers = ["o", "s", "D", "^", "v", "P", "X"]
 for f in figures:
+    if f["kind"] == "frame":
+        from bushel.pictures import section_png
+        section_png(f["frames"], os.path.join(out, f["file"]), title=f["title"], width=5.0, dpi=100)
+        continue
     fig, ax = plt.subplots(figsize=(7.5, 4.5))
     n = len(f["categories"])
     if f["kind"] == "lines":
@@ -111,6 +118,8 @@ void run_report(const ReportCommandOptions& o) {
   options.title = o.title;
   options.curves = o.curves;
   options.heap_stage = o.heap_stage;
+  const std::string package = io::python_package_path();
+  options.frames = !package.empty();
   const Report report = build_report(runs, references, options);
 
   std::error_code ec;
@@ -119,7 +128,7 @@ void run_report(const ReportCommandOptions& o) {
   const auto path = [&](const std::string& file) { return (fs::path(o.out) / file).string(); };
   for (const ReportCsv& c : report.csv_files) io::write_file_atomically(path(c.file), c.text);
   io::write_file_atomically(path("figures.json"), report_figures_json(report));
-  if (!o.no_plots && !report.figures().empty()) io::run_python(plot_script, {path("figures.json"), o.out});
+  if (!o.no_plots && !report.figures().empty()) io::run_python(plot_script, {path("figures.json"), o.out, package});
   io::write_file_atomically(path("report.md"), report_markdown(report));
   // The page holds its figures (a single file to send or archive); without plots it links them.
   const auto png = [&](const std::string& file) -> std::optional<std::string> {

@@ -14,12 +14,12 @@ import signal
 from ._bushel import (InputError, compressibility, mass_in_bin, pack_factor, packing_ratio, parse,
                       pseudo_ellipsoid, rayleigh_time_step, shape_factors, template, template_names)
 from ._bushel import _run, _validate
-from . import doe
+from . import doe, pictures
 from .frames import Frame, read_pvd, read_vtu
 from .runs import Quantity, Run, open_run
 
 __all__ = ["InputError", "Frame", "doe", "Quantity", "Run", "compressibility", "mass_in_bin", "open_run",
-           "pack_factor", "packing_ratio", "parse", "pseudo_ellipsoid", "rayleigh_time_step", "read_pvd",
+           "pack_factor", "packing_ratio", "parse", "pictures", "pseudo_ellipsoid", "rayleigh_time_step", "read_pvd",
            "read_vtu", "resume", "run", "shape_factors", "template", "template_names", "validate"]
 
 

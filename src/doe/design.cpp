@@ -226,4 +226,35 @@ void randomize(Design& d, std::uint64_t seed) {
   }
 }
 
+int point_type(const Design& d, Eigen::Index r) {
+  if (d.centre[static_cast<std::size_t>(r)]) return 0;
+  int nonzero = 0;
+  for (Eigen::Index c = 0; c < d.coded.cols(); ++c) nonzero += d.coded(r, c) != 0.0 ? 1 : 0;
+  if (d.kind == "ccd" && nonzero == 1) return -1;
+  if (d.kind == "box-behnken") return 2;
+  return 1;
+}
+
+std::string design_csv(const Design& d, const std::vector<Factor>& factors) {
+  if (factors.size() != static_cast<std::size_t>(d.coded.cols())) {
+    throw InputError(
+        fmt::format("expected {} factors (one per column of the design), got {}", d.coded.cols(), factors.size()));
+  }
+  std::string csv = "std_order,run_order,center_pt,block";
+  for (const Factor& f : factors) csv += "," + f.name;
+  csv += "\n";
+  std::vector<Eigen::Index> by_run(static_cast<std::size_t>(d.runs()));
+  for (Eigen::Index r = 0; r < d.runs(); ++r)
+    by_run[static_cast<std::size_t>(d.run_order[static_cast<std::size_t>(r)] - 1)] = r;
+  for (const Eigen::Index r : by_run) {
+    csv += fmt::format("{},{},{},{}", r + 1, d.run_order[static_cast<std::size_t>(r)], point_type(d, r),
+                       d.block[static_cast<std::size_t>(r)]);
+    for (std::size_t f = 0; f < factors.size(); ++f) {
+      csv += fmt::format(",{:.6g}", factors[f].decode(d.coded(r, static_cast<Eigen::Index>(f))));
+    }
+    csv += "\n";
+  }
+  return csv;
+}
+
 }  // namespace bushel::doe

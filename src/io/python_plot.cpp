@@ -21,6 +21,26 @@ std::string python_interpreter() {
   return "python3";
 }
 
+std::string python_package_path() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path bin = fs::read_symlink("/proc/self/exe", ec).parent_path();
+  if (ec) return "";
+  const auto holds = [](const fs::path& dir) {
+    std::error_code missing;
+    return fs::exists(dir / "bushel" / "__init__.py", missing) && fs::exists(dir / "bushel" / "pictures.py", missing);
+  };
+  if (holds(bin / ".." / "python")) return fs::weakly_canonical(bin / ".." / "python", ec).string();
+  const fs::path lib = bin / ".." / "lib";
+  for (const auto& e : fs::directory_iterator(lib, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.starts_with("python3") && holds(e.path() / "dist-packages")) {
+      return fs::weakly_canonical(e.path() / "dist-packages", ec).string();
+    }
+  }
+  return "";
+}
+
 void run_python(const std::string& script, const std::vector<std::string>& args) {
   const std::string python = python_interpreter();
   std::vector<std::string> argv_text{python, "-c", script};

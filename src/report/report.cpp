@@ -510,6 +510,42 @@ void add_time_series(ReportSection& s, const Group& g) {
   }
 }
 
+// The last frame of each case that wrote frames (outputs.frames), at most o.max_frames cases: a
+// section through the axis, drawn by the bushel Python package where the program has it.
+void add_last_frames(ReportSection& s, const Group& g, const ReportOptions& o) {
+  std::vector<const Case*> with;
+  for (const Case& c : g.cases) {
+    const std::filesystem::path frames = std::filesystem::path(c.run->directory) / "frames";
+    std::error_code missing;
+    if (std::filesystem::exists(frames / "particles.pvd", missing) &&
+        std::filesystem::exists(frames / "geometry.pvd", missing)) {
+      with.push_back(&c);
+    }
+  }
+  if (with.empty()) return;
+  s.blocks.push_back(heading_block("Last frames"));
+  if (!o.frames) {
+    s.blocks.push_back(text_block(
+        "The last frames are not drawn: this build of bushel has no Python package (it needs pybind11, which "
+        "scripts/setup.sh installs). ParaView opens the runs' frames/particles.pvd."));
+    return;
+  }
+  if (with.size() > o.max_frames) {
+    s.blocks.push_back(text_block(fmt::format("The first {} of the {} runs with frames.", o.max_frames, with.size())));
+    with.resize(o.max_frames);
+  }
+  for (const Case* c : with) {
+    ReportFigure f{
+        file_stem(g.scenario + "-frame-" + c->label) + ".png",         "frame", c->label, "x [mm]", "z [mm]", {}, {},
+        (std::filesystem::path(c->run->directory) / "frames").string()};
+    s.blocks.push_back(figure_block(
+        fmt::format("{}: the last frame (frames/particles.pvd) cut by the plane y = 0; walls as lines, the grains "
+                    "the plane cuts as discs, coloured by type",
+                    c->label),
+        std::move(f)));
+  }
+}
+
 // --- one scenario --------------------------------------------------------------------------------
 
 ReportSection scenario_section(const Group& g, const std::vector<ReferenceValue>& references, const ReportOptions& o,
@@ -588,6 +624,7 @@ ReportSection scenario_section(const Group& g, const std::vector<ReferenceValue>
   add_heap_profiles(s, csv, g, o);
   add_composition(s, g, o);
   add_time_series(s, g);
+  add_last_frames(s, g, o);
   return s;
 }
 

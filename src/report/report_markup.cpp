@@ -176,7 +176,8 @@ std::string report_figures_json(const Report& report) {
                        {"xlabel", f->xlabel},
                        {"ylabel", f->ylabel},
                        {"categories", f->categories},
-                       {"series", series}});
+                       {"series", series},
+                       {"frames", f->frames}});
   }
   return figures.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }

@@ -51,6 +51,15 @@ PY
   [[ -s "$work/plots/cup-pour-series-cup.mass.png" && -s "$work/plots/cup-pour-series-kinetic_energy_per_particle.png" ]] ||
     fail "time series not drawn: $(ls "$work/plots")"
   grep -q '<h3>Time series</h3>' "$work/plots/report.html" || fail "no time series section"
+  # each run's last frame: drawn by the build's Python package, or the page says why not
+  grep -q '<h3>Last frames</h3>' "$work/plots/report.html" || fail "no last frames section"
+  if [[ -f "$(dirname "$bushel")/../python/bushel/pictures.py" ]]; then
+    [[ -s "$work/plots/cup-pour-frame-cup_pour.png" && -s "$work/plots/calibration-cup-frame-cup_stop.png" ]] ||
+      fail "last frames not drawn: $(ls "$work/plots")"
+  else
+    grep -q "The last frames are not drawn: this build of bushel has no Python package" "$work/plots/report.html" ||
+      fail "no word on the frames not drawn"
+  fi
 fi
 
 # Bad input: one line naming what was wrong.

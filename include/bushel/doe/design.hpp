@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "bushel/doe/factor_table.hpp"
+
 namespace bushel::doe {
 
 struct Design {
@@ -51,5 +53,13 @@ Design latin_hypercube(int factors, int runs, std::uint64_t seed);
 /// Sets a random run order from `seed` (a shuffle, reproducible); without it, run order =
 /// standard order.
 void randomize(Design& design, std::uint64_t seed);
+
+/// Minitab's point type of a run: 1 corner, 0 centre, -1 axial, 2 edge (Box-Behnken).
+int point_type(const Design& design, Eigen::Index run);
+
+/// The design as the table `bushel doe design` writes and `bushel doe run` reads: columns
+/// std_order, run_order, center_pt, block and the factors (physical units, 6 digits), one
+/// row per run in run order. `factors` (one per column of the design) decode the levels.
+std::string design_csv(const Design& design, const std::vector<Factor>& factors);
 
 }  // namespace bushel::doe

@@ -12,6 +12,11 @@ namespace bushel::io {
 /// python3-matplotlib serves), else python3 from the PATH.
 std::string python_interpreter();
 
+/// The folder holding this build's `bushel` Python package (the one to put on sys.path), found
+/// beside the running program: BIN/../python (the build tree) or
+/// PREFIX/lib/python3.X/dist-packages (installed); "" when this build has none.
+std::string python_package_path();
+
 /// Runs `script` (Python source) with `args` as sys.argv[1:]; throws InputError naming the
 /// interpreter and, when matplotlib is missing, the package to install, if it fails.
 void run_python(const std::string& script, const std::vector<std::string>& args);

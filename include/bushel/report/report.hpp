@@ -29,6 +29,11 @@ struct ReportOptions {
   std::string heap_stage = "rest";
   /// Results named PREFIX + type name are the composition in a vessel.
   std::string composition_prefix = "fraction_";
+  /// Draw each run's last frame (kind "frame"): needs the bushel Python package, which the
+  /// program says whether it has (io::python_package_path). Without it the report says so.
+  bool frames = true;
+  /// At most this many runs of a scenario get their last frame drawn (the first, by case).
+  std::size_t max_frames = 6;
 };
 
 struct ReportTable {
@@ -44,10 +49,12 @@ struct ReportSeries {
 };
 struct ReportFigure {
   std::string file;  ///< PNG file name, in the report's folder
-  std::string kind;  ///< "categories" (points per case), "lines" (x, y), "stacked" (bars of shares per case)
+  std::string kind;  ///< "categories" (points per case), "lines" (x, y), "stacked" (bars of shares per case),
+                     ///< "frame" (a section of a run's last frame, drawn by the bushel Python package)
   std::string title, xlabel, ylabel;
   std::vector<std::string> categories;  ///< for "categories" and "stacked"
   std::vector<ReportSeries> series;
+  std::string frames{};  ///< for "frame": the run's frames folder (particles.pvd, geometry.pvd)
 };
 
 /// One block of a section: a sub-heading, a paragraph, a list, a table or a figure.
