@@ -125,8 +125,11 @@ struct ContactViews {
   std::span<const std::uint32_t> first, second;
   double* history;
   std::span<std::uint8_t> active;
+  // slots of the second elements not summed directly (ContactSums)
   std::span<Vec3> pair_force, pair_torque_j;
   std::span<double> pair_cdt_j;
+  std::span<const std::uint32_t> slots_of;
+  const NeighborList* neighbors;
   // per element sums (ContactSums)
   std::span<Vec3> element_force, element_torque;
   std::span<double> element_cdt;
@@ -161,6 +164,13 @@ struct ChunkResult {
 struct Deepest {
   double overlap = 0.0, radius = 1.0;
 };
+
+// The slot of pair p for its second element j (not summed directly): j's slots follow its
+// pairs as second, which are few and ascending.
+std::size_t slot_of(const ContactViews& v, std::size_t p, std::uint32_t j) {
+  const auto pairs = v.neighbors->pairs_as_second(j);
+  return v.slots_of[j] + static_cast<std::size_t>(std::lower_bound(pairs.begin(), pairs.end(), p) - pairs.begin());
+}
 
 // Which of pairs [p0, p1) touch, into pl.touching (returns their count), without a branch on
 // it: about a third of the pairs in the list do not, in no predictable order. A contact that
@@ -297,10 +307,11 @@ template <class Rolling>
       v.second_force[j] -= f;
       v.second_torque[j] += t_j;
       v.second_cdt[j] += roll.cdt_j;
-    } else {  // the gather sums the slots in the same order
-      v.pair_force[p] = f;
-      v.pair_torque_j[p] = t_j;
-      v.pair_cdt_j[p] = roll.cdt_j;
+    } else {  // the gather sums j's slots in the same order
+      const std::size_t slot = slot_of(v, p, j);
+      v.pair_force[slot] = f;
+      v.pair_torque_j[slot] = t_j;
+      v.pair_cdt_j[slot] = roll.cdt_j;
     }
     const double smaller = std::min(pb.ri[k], pb.rj[k]);
     if (pb.overlap[k] * deepest.radius > deepest.overlap * smaller) deepest = {pb.overlap[k], smaller};
@@ -479,18 +490,26 @@ void mark_direct_seconds(ContactSums& sums, const NeighborList& neighbors, std::
       if (thread_of[first[p]] != thread_of[first[pairs.front()]]) sums.second_direct[s] = 0;
     }
   }
+  // slots for the elements that are not summed directly: at one thread none, at more those
+  // whose pairs as second fall to two threads (a few near the blocks' ends)
+  sums.slots_of.resize(n_s + 1);
+  std::uint32_t slots = 0;
+  for (std::size_t s = 0; s < n_s; ++s) {
+    sums.slots_of[s] = slots;
+    if (!sums.second_direct[s]) slots += static_cast<std::uint32_t>(neighbors.pairs_as_second(s).size());
+  }
+  sums.slots_of[n_s] = slots;
+  sums.pair_force.resize(slots);
+  sums.pair_torque_j.resize(slots);
+  sums.pair_cdt_j.resize(slots);
   sums.direct_build = neighbors.builds();
   sums.direct_team = team;
 }
 
-// The per-pair result slots sized for the list; on a new list every pair counts as touching
-// once, so that where it does not, its history is zeroed; from then on only pairs whose
-// contact ends write zeros.
-void size_pair_slots(ContactSums& sums, const NeighborList& neighbors) {
+// On a new list every pair counts as touching once, so that where it does not, its history is
+// zeroed; from then on only pairs whose contact ends write zeros.
+void reset_active_pairs(ContactSums& sums, const NeighborList& neighbors) {
   const std::size_t n_pairs = neighbors.pairs();
-  sums.pair_force.resize(n_pairs);
-  sums.pair_torque_j.resize(n_pairs);
-  sums.pair_cdt_j.resize(n_pairs);
   if (neighbors.builds() != sums.active_build) {
     sums.pair_active.assign(n_pairs, 1);
     sums.active_build = neighbors.builds();
@@ -521,6 +540,8 @@ ContactViews views_of(World& w) {
           .pair_force = s.pair_force,
           .pair_torque_j = s.pair_torque_j,
           .pair_cdt_j = s.pair_cdt_j,
+          .slots_of = s.slots_of,
+          .neighbors = &w.neighbors,
           .element_force = s.element_force,
           .element_torque = s.element_torque,
           .element_cdt = s.element_cdt,
@@ -549,8 +570,7 @@ ContactViews views_of(World& w) {
 
 template <class Rolling>
 void contacts(World& w) {
-  size_pair_slots(w.sums, w.neighbors);
-  const ContactViews views = views_of(w);
+  reset_active_pairs(w.sums, w.neighbors);
   double max_ratio = 0.0;
   std::size_t touching = 0;
   ContactSums& sums = w.sums;
@@ -570,6 +590,7 @@ void contacts(World& w) {
     if (sums.direct_build != w.neighbors.builds() || sums.direct_team != team) {
       mark_direct_seconds(sums, w.neighbors, w.particles.spheres(), team);
     }
+    const ContactViews views = views_of(w);  // (after the slots are sized, which the single's barrier ensures)
     // Each thread's scratch, kept between steps: allocating and zeroing it every step cost
     // more than the L1 cache holds.
     thread_local std::unique_ptr<Workspace> work;

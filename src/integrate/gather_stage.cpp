@@ -74,11 +74,13 @@ void gather(ParticleSystem& ps, ContactSums& sums, const NeighborList& neighbors
       }
       Vec3 f_second, t_second;
       double cdt_second = 0.0;
+      std::size_t slot = sums.slots_of[s];
       for (const std::uint32_t p : neighbors.pairs_as_second(s)) {
+        const std::size_t k = slot++;
         if (!sums.pair_active[p]) continue;  // (as the contact stage: only pairs that touch)
-        f_second -= sums.pair_force[p];
-        t_second += sums.pair_torque_j[p];
-        cdt_second += sums.pair_cdt_j[p];
+        f_second -= sums.pair_force[k];
+        t_second += sums.pair_torque_j[k];
+        cdt_second += sums.pair_cdt_j[k];
       }
       f += f_second;
       t += t_second;

@@ -19,9 +19,6 @@ void each_saved_member(W& w, F&& f) {
   static_assert(std::is_same_v<std::size_t, std::uint64_t>, "counts are stored as 64-bit");
   auto& s = w.sums;
   auto& c = w.candidates;
-  f(s.pair_force);
-  f(s.pair_torque_j);
-  f(s.pair_cdt_j);
   f(s.pair_active);
   f(s.element_force);
   f(s.element_torque);
@@ -105,7 +102,9 @@ void get_member(io::BinaryReader& in, T& m) {
 
 // The engine's sections of a checkpoint and their versions: each is written and read here by
 // the part of the World it holds.
-constexpr std::uint32_t parts_version = 1, particles_version = 1, neighbors_version = 2, contacts_version = 1,
+// engine.contacts version 1 held the second elements' slots too (one per pair), which are the
+// scratch of a step: version 2 leaves them out, and loading version 1 skips them.
+constexpr std::uint32_t parts_version = 1, particles_version = 1, neighbors_version = 2, contacts_version = 2,
                         diagnostics_version = 1;
 
 void Simulation::save_state(io::BinaryWriter& out) const {
@@ -140,8 +139,17 @@ void Simulation::load_state(const io::SectionTable& in) {
     w.neighbors.load(s.body, s.version);
     io::SectionTable::expect_end(s.body, "engine.neighbors");
   }
-  in.read("engine.contacts", contacts_version, true,
-          [&](io::BinaryReader& b) { each_saved_member(w, [&](auto& m) { get_member(b, m); }); });
+  {
+    io::SectionTable::Section s = in.get("engine.contacts", contacts_version);
+    if (s.version == 1) {
+      std::vector<Vec3> force, torque;
+      std::vector<double> cdt;
+      s.body.get(force), s.body.get(torque), s.body.get(cdt);
+    }
+    each_saved_member(w, [&](auto& m) { get_member(s.body, m); });
+    io::SectionTable::expect_end(s.body, "engine.contacts");
+    w.sums.direct_team = 0;  // (the slots are found again at the first step)
+  }
   // Without its diagnostics a state still continues (the unbalanced force ratio is unknown
   // until the next step, the adaptive skin counts from the checkpoint's step).
   w.diagnostics.pair_force_sum = w.diagnostics.part_force_sum = 0.0;

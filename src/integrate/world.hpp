@@ -34,15 +34,18 @@ struct PartGeometry {
 };
 
 /// Where the contact stage leaves its forces for the gather: per element its own sums (over
-/// its pairs as first element and its parts), per pair the share of the second element, or,
-/// where one thread computes all of an element's pairs as second, that element's sum of them.
+/// its pairs as first element and its parts), and its shares as second element: where one
+/// thread computes all of an element's pairs as second, that element's sum of them, else one
+/// slot per such pair, which the gather sums.
 struct ContactSums {
-  // per pair: the reaction on the second element, written only for touching pairs whose
-  // second element is not summed directly
+  // slots: the reaction on a second element that is not summed directly, one per pair it is
+  // second of (scratch of one step: written for the touching pairs, read for those alone)
   std::vector<Vec3> pair_force;           ///< force on the first element (the second gets minus this) [N]
   std::vector<Vec3> pair_torque_j;        ///< torque on the second element's body [N m]
   std::vector<double> pair_cdt_j;         ///< CDT magnitude on the second element's body [N m]
-  std::vector<std::uint8_t> pair_active;  ///< 1 while the pair touches (or may: a fresh list)
+  std::vector<std::uint32_t> slots_of;    ///< [s]: the element's slots start at slots_of[s], one per pair
+                                          ///< as second in pairs_as_second order (none where second_direct)
+  std::vector<std::uint8_t> pair_active;  ///< [p]: 1 while the pair touches (or may: a fresh list)
   std::size_t active_build = 0;           ///< neighbour-list build the flags belong to
   // per element: its own sums
   std::vector<Vec3> element_force, element_torque;  ///< [N], [N m]
@@ -52,8 +55,8 @@ struct ContactSums {
   std::vector<Vec3> second_force, second_torque;
   std::vector<double> second_cdt;
   std::vector<std::uint8_t> second_direct;
-  std::size_t direct_build = 0;            ///< neighbour-list build that second_direct is for
-  int direct_team = 0;                     ///< and the team size
+  std::size_t direct_build = 0;            ///< neighbour-list build that second_direct and the slots are for
+  int direct_team = 0;                     ///< and the team size (0: to be found again)
   std::vector<std::uint32_t> chunk_start;  ///< elements split into chunks: [chunk_start[k], chunk_start[k + 1])
 };
 
@@ -121,7 +124,7 @@ struct World {
   /// The bodies' forces belong to the current state (velocity Verlet's first half kick);
   /// false after add_body, add_part and remove_bodies until the next forces.
   bool forces_valid = false;
-  double time = 0.0;             ///< [s]
+  double time = 0.0;  ///< [s]
   std::uint64_t steps = 0;
   Team team{ThreadPolicy{}};  ///< the thread count of the steps (not part of the state)
 };
