@@ -50,8 +50,9 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
   for (const std::uint64_t e : partners_.extra) ++start[(e >> 32) + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
   const std::size_t n_pairs = start[n];
+  // (the old list's own index by second element is not needed to carry the history over)
+  std::vector<std::uint32_t>().swap(as_second_);
   std::vector<std::uint32_t> first(n_pairs), second(n_pairs);
-  std::vector<std::uint64_t> key(n_pairs);
   auto extra = partners_.extra.begin();
   for (std::size_t b = 0; b < partners_.block.size(); ++b) {
     const std::uint32_t* from = partners_.block[b].data();  // the block's partners, in element order
@@ -63,17 +64,16 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
         const std::uint32_t j = take_extra ? static_cast<std::uint32_t>(*extra++) : *from++;
         first[p] = static_cast<std::uint32_t>(i);
         second[p] = j;
-        key[p] = pair_key(stable_id[i], stable_id[j]);
       }
     }
   }
   margin_.assign(margin.begin(), margin.end());
   std::vector<double> history(n_pairs * static_cast<std::size_t>(history_size_), 0.0);
-  if (history_size_ > 0 && !key_.empty()) carry_history(stable_id, start, second, key, history);
+  if (history_size_ > 0 && !first_.empty()) carry_history(stable_id, start, second, history);
   ids_at_build_.assign(stable_id.begin(), stable_id.end());
+  std::vector<std::uint64_t>().swap(loaded_keys_);
   first_ = std::move(first);
   second_ = std::move(second);
-  key_ = std::move(key);
   history_ = std::move(history);
   first_start_ = std::move(start);
   index_by_second();
@@ -81,9 +81,12 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
   ++builds_;
 }
 
+std::uint64_t NeighborList::old_key(std::size_t o) const {
+  return loaded_keys_.empty() ? pair_key(ids_at_build_[first_[o]], ids_at_build_[second_[o]]) : loaded_keys_[o];
+}
+
 void NeighborList::carry_history(std::span<const std::uint32_t> stable_id, std::span<const std::uint32_t> start,
-                                 std::span<const std::uint32_t> second, std::span<const std::uint64_t> key,
-                                 std::span<double> history) const {
+                                 std::span<const std::uint32_t> second, std::span<double> history) const {
   // The elements keep their indices from build to build unless something renumbered them (a
   // spatial sort, bodies added or removed), and both lists are sorted by (i, j): then each
   // element's old and new partners are merged in one pass. Otherwise (and after a restart,
@@ -109,19 +112,22 @@ void NeighborList::carry_history(std::span<const std::uint32_t> stable_id, std::
   // in a flow. Their keys with their slots, sorted in one contiguous array, make each new
   // pair's lookup a binary search in a compact array.
   std::vector<std::pair<std::uint64_t, std::uint32_t>> carried;
-  for (std::size_t o = 0; o < key_.size(); ++o) {
+  for (std::size_t o = 0; o < first_.size(); ++o) {
     const double* old = history_.data() + o * h;
     if (std::any_of(old, old + h, [](double v) { return v != 0.0; }))
-      carried.emplace_back(key_[o], static_cast<std::uint32_t>(o));
+      carried.emplace_back(old_key(o), static_cast<std::uint32_t>(o));
   }
+  if (carried.empty()) return;
   std::sort(carried.begin(), carried.end());
-  const auto np = static_cast<std::ptrdiff_t>(carried.empty() ? 0 : key.size());
-#pragma omp parallel for schedule(static) if (np > parallel_threshold)
-  for (std::ptrdiff_t sp = 0; sp < np; ++sp) {
-    const auto p = static_cast<std::size_t>(sp);
-    const auto it = std::lower_bound(carried.begin(), carried.end(), std::pair{key[p], std::uint32_t{0}});
-    if (it != carried.end() && it->first == key[p]) {
-      std::copy_n(history_.data() + std::size_t{it->second} * h, h, history.data() + p * h);
+#pragma omp parallel for schedule(static) if (sn > parallel_threshold)
+  for (std::ptrdiff_t si = 0; si < sn; ++si) {
+    const auto i = static_cast<std::size_t>(si);
+    for (std::size_t p = start[i]; p < start[i + 1]; ++p) {
+      const std::uint64_t key = pair_key(stable_id[i], stable_id[second[p]]);
+      const auto it = std::lower_bound(carried.begin(), carried.end(), std::pair{key, std::uint32_t{0}});
+      if (it != carried.end() && it->first == key) {
+        std::copy_n(history_.data() + std::size_t{it->second} * h, h, history.data() + p * h);
+      }
     }
   }
 }
@@ -144,11 +150,11 @@ void NeighborList::save(io::BinaryWriter& out) const {
   out.put(margin_);
   out.put(first_);
   out.put(second_);
-  out.put(key_);
   out.put(history_);
   out.put(first_start_);
   out.put(second_start_);
   out.put(as_second_);
+  out.put(ids_at_build_);
 }
 
 void NeighborList::load(io::BinaryReader& in, std::uint32_t version) {
@@ -167,12 +173,20 @@ void NeighborList::load(io::BinaryReader& in, std::uint32_t version) {
   }
   in.get(first_);
   in.get(second_);
-  in.get(key_);
+  loaded_keys_.clear();
+  if (version <= 2) in.get(loaded_keys_);  // (earlier formats kept each pair's stable identity)
   in.get(history_);
   in.get(first_start_);
   in.get(second_start_);
   in.get(as_second_);
-  ids_at_build_.clear();  // (the next build looks the pairs up by their stable identity)
+  ids_at_build_.clear();
+  if (version >= 3) in.get(ids_at_build_);
+  const bool keyed = version >= 3 ? ids_at_build_.size() == reference_.size() : loaded_keys_.size() == first_.size();
+  const bool built = !first_start_.empty();  // (a list saved before its first build is empty)
+  if (built && (!keyed || first_start_.size() != reference_.size() + 1 || second_.size() != first_.size() ||
+                as_second_.size() != first_.size())) {
+    in.damaged("a neighbour list whose arrays do not fit together");
+  }
 }
 
 }  // namespace bushel

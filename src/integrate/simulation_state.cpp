@@ -102,9 +102,10 @@ void get_member(io::BinaryReader& in, T& m) {
 
 // The engine's sections of a checkpoint and their versions: each is written and read here by
 // the part of the World it holds.
-// engine.contacts version 1 held the second elements' slots too (one per pair), which are the
-// scratch of a step: version 2 leaves them out, and loading version 1 skips them.
-constexpr std::uint32_t parts_version = 1, particles_version = 1, neighbors_version = 2, contacts_version = 2,
+// engine.neighbors version 3 keeps the elements' ids at the build instead of each pair's
+// stable identity (versions 1 and 2 still load). engine.contacts version 1 held the second elements' slots too (one per
+// pair), which are the scratch of a step: version 2 leaves them out, and loading version 1 skips them.
+constexpr std::uint32_t parts_version = 1, particles_version = 1, neighbors_version = 3, contacts_version = 2,
                         diagnostics_version = 1;
 
 void Simulation::save_state(io::BinaryWriter& out) const {

@@ -175,6 +175,24 @@ TEST(NeighborList, RebuildOnlyAfterAnElementPassesItsMargin) {
   EXPECT_TRUE(rebuild_due(list, c));
 }
 
+// A list's bytes (as saved: version 3) in the format of version 2: each pair's stable
+// identity after the second elements, and not the elements' ids at the build (`id`) at the end.
+std::string version_2_bytes(const NeighborList& list, const std::string& v3, const std::vector<std::uint32_t>& id) {
+  const std::size_t n = id.size(), count = sizeof(std::uint64_t);
+  const std::size_t second_end = sizeof(double) + sizeof(int) + count + (count + n * sizeof(Vec3)) +
+                                 (count + n * sizeof(double)) + 2 * (count + list.pairs() * sizeof(std::uint32_t));
+  std::vector<std::uint64_t> key;
+  for (std::size_t p = 0; p < list.pairs(); ++p) {
+    const std::uint64_t a = id[list.first(p)], b = id[list.second(p)];
+    key.push_back(std::min(a, b) << 32 | std::max(a, b));
+  }
+  io::BinaryWriter keys;
+  keys.put(key);
+  std::string v2 = v3.substr(0, v3.size() - (count + n * sizeof(std::uint32_t)));
+  v2.insert(second_end, keys.bytes());
+  return v2;
+}
+
 // A list saved with margins comes back with them; one of the first format (no margins) with
 // half the skin for every element.
 TEST(NeighborList, MarginsSurviveACheckpoint) {
@@ -187,7 +205,7 @@ TEST(NeighborList, MarginsSurviveACheckpoint) {
   list.save(out);
   NeighborList back(1.0, 0);
   io::BinaryReader in(out.bytes(), "list");
-  back.load(in, 2);
+  back.load(in, 3);
   EXPECT_TRUE(in.done());
   EXPECT_EQ(listed(back), listed(list));
   EXPECT_DOUBLE_EQ(back.margin(5), 0.7e-3);
@@ -196,10 +214,10 @@ TEST(NeighborList, MarginsSurviveACheckpoint) {
   // the reference positions come before them).
   NeighborList uniform(0.4e-3, 3);
   uniform.build(c.position, c.radius, c.owner, c.id);
-  io::BinaryWriter v2;
-  uniform.save(v2);
+  io::BinaryWriter v3;
+  uniform.save(v3);
   const std::size_t at = sizeof(double) + sizeof(int) + 2 * sizeof(std::uint64_t) + c.position.size() * sizeof(Vec3);
-  std::string v1 = v2.bytes();
+  std::string v1 = version_2_bytes(uniform, v3.bytes(), c.id);
   v1.erase(at, sizeof(std::uint64_t) + c.position.size() * sizeof(double));
   NeighborList old(1.0, 0);
   io::BinaryReader in1(v1, "list");
@@ -267,9 +285,11 @@ TEST(NeighborList, HistorySurvivesRebuildAndRenumbering) {
   EXPECT_GT(carried, list.pairs() / 2);
 }
 
-// Between renumberings a rebuild merges each element's old and new partners by index; after
-// a restart (or a renumbering) it looks each pair up by stable identity. Both must carry the
-// same histories, and the merge must keep exactly the pairs found again.
+// Between renumberings a rebuild merges each element's old and new partners by index, also
+// after a restart (the list keeps the ids it was built with); after a renumbering, or a
+// restart from a list of version 2 (which kept each pair's stable identity instead), it looks
+// each pair up by stable identity. All must carry the same histories, and the merge must keep
+// exactly the pairs found again.
 TEST(NeighborList, HistoryMergedInPlaceAsByLookup) {
   Cloud c = random_cloud(900, 13);
   NeighborList merged(0.4e-3, 2);
@@ -283,16 +303,23 @@ TEST(NeighborList, HistoryMergedInPlaceAsByLookup) {
   }
   io::BinaryWriter out;
   merged.save(out);
-  NeighborList looked_up(1.0, 0);  // restored: it does not know the ids it was built with
+  NeighborList restored(1.0, 0), looked_up(1.0, 0);
   io::BinaryReader in(out.bytes(), "list");
-  looked_up.load(in, 2);
+  restored.load(in, 3);
+  const std::string v2 = version_2_bytes(merged, out.bytes(), c.id);
+  io::BinaryReader in2(v2, "list");
+  looked_up.load(in2, 2);  // it does not know the ids it was built with
+  EXPECT_TRUE(in.done() && in2.done());
   // Move every element by up to a skin, so that pairs both leave the list and join it.
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(-0.4e-3, 0.4e-3);
   for (Vec3& x : c.position) x += Vec3{u(rng), u(rng), u(rng)};
   merged.build(c.position, c.radius, c.owner, c.id);
   looked_up.build(c.position, c.radius, c.owner, c.id);
+  restored.build(c.position, c.radius, c.owner, c.id);
   ASSERT_EQ(merged.pairs(), looked_up.pairs());
+  ASSERT_EQ(merged.pairs(), restored.pairs());
+  for (std::size_t p = 0; p < merged.pairs(); ++p) ASSERT_EQ(merged.history(p)[1], restored.history(p)[1]);
   std::size_t kept = 0, joined = 0;
   for (std::size_t p = 0; p < merged.pairs(); ++p) {
     ASSERT_EQ(merged.first(p), looked_up.first(p));

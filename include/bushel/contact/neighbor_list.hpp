@@ -91,15 +91,17 @@ class NeighborList {
   /// The whole list, for a checkpoint; `load` restores it exactly (throws InputError on a
   /// truncated archive).
   void save(io::BinaryWriter& out) const;
-  /// `version` 1: a list without margins (each element's is half the skin); 2: with them.
+  /// `version` 1: a list without margins (each element's is half the skin); 2: with them;
+  /// 3: with the elements' ids at the build instead of each pair's stable identity.
   void load(io::BinaryReader& in, std::uint32_t version);
 
  private:
-  /// The old list's history of each new pair (given by its first elements' ranges `start`,
-  /// its second elements and stable identities) into `history`.
+  /// The old list's history of each new pair (given by its first elements' ranges `start` and
+  /// its second elements, over elements with ids `stable_id`) into `history`.
   void carry_history(std::span<const std::uint32_t> stable_id, std::span<const std::uint32_t> start,
-                     std::span<const std::uint32_t> second, std::span<const std::uint64_t> key,
-                     std::span<double> history) const;
+                     std::span<const std::uint32_t> second, std::span<double> history) const;
+  /// The stable identity of old pair o: min id << 32 | max id.
+  std::uint64_t old_key(std::size_t o) const;
   /// second_start_ and as_second_ from the pairs.
   void index_by_second();
 
@@ -109,12 +111,13 @@ class NeighborList {
   std::vector<Vec3> reference_;  // positions at the last build
   std::vector<double> margin_;   // each element's margin at the last build [m]
   std::vector<std::uint32_t> first_, second_;
-  std::vector<std::uint64_t> key_;  // stable pair identity, min id << 32 | max id
   std::vector<double> history_;
   std::vector<std::uint32_t> first_start_;               // CSR over first elements
   std::vector<std::uint32_t> second_start_, as_second_;  // CSR of pair indices by second element
   PartnerBlocks partners_;                               // build scratch
-  std::vector<std::uint32_t> ids_at_build_;              // the elements' stable ids at the last build (not saved)
+  std::vector<std::uint32_t> ids_at_build_;              // the elements' stable ids at the last build
+  std::vector<std::uint64_t> loaded_keys_;  // each pair's stable identity, from a checkpoint of version 1 or 2
+                                            // (which did not save ids_at_build_), until the next build
 };
 
 }  // namespace bushel
