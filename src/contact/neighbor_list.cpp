@@ -184,8 +184,19 @@ void NeighborList::load(io::BinaryReader& in, std::uint32_t version) {
   const bool keyed = version >= 3 ? ids_at_build_.size() == reference_.size() : loaded_keys_.size() == first_.size();
   const bool built = !first_start_.empty();  // (a list saved before its first build is empty)
   if (built && (!keyed || first_start_.size() != reference_.size() + 1 || second_.size() != first_.size() ||
-                as_second_.size() != first_.size())) {
+                as_second_.size() != first_.size() || second_start_.size() != first_start_.size())) {
     in.damaged("a neighbour list whose arrays do not fit together");
+  }
+  const auto below = [](const std::vector<std::uint32_t>& v, std::size_t n) {
+    return std::all_of(v.begin(), v.end(), [n](std::uint32_t x) { return x < n; });
+  };
+  const auto ranges = [&](const std::vector<std::uint32_t>& start) {  // CSR offsets: rising, ending at the pairs
+    return start.empty() ||
+           (std::is_sorted(start.begin(), start.end()) && start.front() == 0 && start.back() == first_.size());
+  };
+  if (!below(first_, reference_.size()) || !below(second_, reference_.size()) || !below(as_second_, first_.size()) ||
+      !ranges(first_start_) || !ranges(second_start_)) {
+    in.damaged("a neighbour list with an element or pair index out of range");
   }
 }
 

@@ -587,7 +587,8 @@ void contacts(World& w) {
 #endif
     // Each thread takes a fixed block of chunks (chunks_of), which mark_direct_seconds knows.
 #pragma omp single
-    if (sums.direct_build != w.neighbors.builds() || sums.direct_team != team) {
+    if (sums.direct_build != w.neighbors.builds() || sums.direct_team != team ||
+        sums.slots_of.size() != w.particles.spheres() + 1) {
       mark_direct_seconds(sums, w.neighbors, w.particles.spheres(), team);
     }
     const ContactViews views = views_of(w);  // (after the slots are sized, which the single's barrier ensures)

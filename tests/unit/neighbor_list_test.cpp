@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bushel/contact/neighbor_list.hpp"
+#include "bushel/core/input_error.hpp"
 #include "bushel/io/binary_archive.hpp"
 
 namespace bushel {
@@ -225,6 +226,28 @@ TEST(NeighborList, MarginsSurviveACheckpoint) {
   EXPECT_TRUE(in1.done());
   EXPECT_EQ(listed(old), listed(uniform));
   for (std::size_t e = 0; e < c.position.size(); ++e) ASSERT_EQ(old.margin(e), 0.2e-3);
+}
+
+// A saved list whose pair names an element that is not there is damage, not a crash later.
+TEST(NeighborList, ACheckpointWithAnIndexOutOfRangeIsDamage) {
+  const Cloud c = random_cloud(300, 8);
+  NeighborList list(0.4e-3, 3);
+  list.build(c.position, c.radius, c.owner, c.id);
+  io::BinaryWriter out;
+  list.save(out);
+  const std::size_t n = c.position.size(), count = sizeof(std::uint64_t);
+  const std::size_t second_at = sizeof(double) + sizeof(int) + count + (count + n * sizeof(Vec3)) +
+                                (count + n * sizeof(double)) + (count + list.pairs() * sizeof(std::uint32_t)) + count;
+  std::string bytes = out.bytes();
+  bytes.replace(second_at, sizeof(std::uint32_t), std::string(sizeof(std::uint32_t), '\xff'));
+  NeighborList back(1.0, 0);
+  io::BinaryReader in(bytes, "list");
+  try {
+    back.load(in, 3);
+    FAIL() << "loaded a pair with an element out of range";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("index out of range"), std::string::npos) << e.what();
+  }
 }
 
 TEST(NeighborList, PairsGroupedByFirstAndIndexedBySecond) {
