@@ -89,9 +89,10 @@ void NeighborList::carry_history(std::span<const std::uint32_t> stable_id, std::
                                  std::span<const std::uint32_t> second, std::span<double> history) const {
   // The elements keep their indices from build to build unless something renumbered them (a
   // spatial sort, bodies added or removed), and both lists are sorted by (i, j): then each
-  // element's old and new partners are merged in one pass. Otherwise (and after a restart,
-  // which does not keep the ids) each pair is looked up by its stable identity. Both carry
-  // the same values over.
+  // element's old and new partners are merged in one pass (also after a restart: a checkpoint
+  // keeps the ids). Otherwise (and after loading a list of version 1 or 2, which kept keys
+  // instead of ids) each pair is looked up by its stable identity. Both carry the same values
+  // over.
   const auto h = static_cast<std::size_t>(history_size_);
   const auto sn = static_cast<std::ptrdiff_t>(stable_id.size());
   if (std::equal(stable_id.begin(), stable_id.end(), ids_at_build_.begin(), ids_at_build_.end())) {
