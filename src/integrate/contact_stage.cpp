@@ -86,8 +86,9 @@ struct PairLanes {
   }
 }
 [[gnu::noinline, gnu::cold]] void set_offsets(PairLanes& pl, std::span<const Vec3> x_el, std::span<const Vec3> x_b,
-                                              std::span<const Vec3> inverse_inertia,
+                                              std::span<const Vec3> type_inverse_inertia,
                                               std::span<const std::uint32_t> owner,
+                                              std::span<const std::uint32_t> species,
                                               std::span<const std::uint32_t> sphere_count,
                                               std::span<const std::uint32_t> second) {
   PairBatch& b = pl.batch;
@@ -99,7 +100,8 @@ struct PairLanes {
     const Vec3 oj = sphere_count[bj] == 1 ? Vec3{} : x_el[j] - x_b[bj];
     b.oix[k] = oi.x, b.oiy[k] = oi.y, b.oiz[k] = oi.z;
     b.ojx[k] = oj.x, b.ojy[k] = oj.y, b.ojz[k] = oj.z;
-    b.ji[k] = max_component(inverse_inertia[bi]), b.jj[k] = max_component(inverse_inertia[bj]);
+    b.ji[k] = max_component(type_inverse_inertia[species[i]]),
+    b.jj[k] = max_component(type_inverse_inertia[species[j]]);
   }
 }
 
@@ -114,8 +116,10 @@ struct Workspace {
 // reload every data pointer after it; from a private copy it keeps them in registers.
 struct ContactViews {
   // bodies [b]
-  std::span<const Vec3> x_b, v_b, w_b, inertia, inverse_inertia;
+  std::span<const Vec3> x_b, v_b, w_b;
   std::span<const double> mass;
+  // types [species of an element = body_type of its owner]
+  std::span<const Vec3> type_inertia, type_inverse_inertia;
   std::span<const std::uint32_t> sphere_count;
   // sphere elements [s]
   std::span<const Vec3> x_el;
@@ -243,9 +247,8 @@ std::size_t slot_of(const ContactViews& v, std::size_t p, std::uint32_t j) {
     __builtin_prefetch(&v.second_force[j], 1);
     __builtin_prefetch(&v.second_torque[j], 1);
     __builtin_prefetch(&v.second_cdt[j], 1);
-    // And j's body position and inverse moments, which set_offsets reads for clumps.
+    // And j's body position, which set_offsets reads for clumps.
     __builtin_prefetch(&v.x_b[bj]);
-    __builtin_prefetch(&v.inverse_inertia[bj]);
     const std::uint32_t co = v.species[i] * ns + v.species[j];
     pl.coefficient[kk] = co;
     uniform &= co == co0;
@@ -258,7 +261,7 @@ std::size_t slot_of(const ContactViews& v, std::size_t p, std::uint32_t j) {
   pb.uniform = uniform;
   pb.law.set(0, v.coefficients[co0]);
   if (!uniform) set_coefficients(pl, v.coefficients);
-  if (!lone) set_offsets(pl, v.x_el, v.x_b, v.inverse_inertia, v.owner, v.sphere_count, v.second);
+  if (!lone) set_offsets(pl, v.x_el, v.x_b, v.type_inverse_inertia, v.owner, v.species, v.sphere_count, v.second);
 }
 
 // Solves the batch of pairs, updates their histories, applies rolling model R; side i adds to
@@ -278,8 +281,8 @@ template <class Rolling>
     double inertia_r = 0.0;
     if constexpr (Rolling::uses_inertia) {
       const std::uint32_t bi = v.owner[i], bj = v.owner[j];
-      const double ii = min_moment(v.inertia[bi]) + v.mass[bi] * pb.arm_i[k] * pb.arm_i[k];
-      const double ij = min_moment(v.inertia[bj]) + v.mass[bj] * pb.arm_j[k] * pb.arm_j[k];
+      const double ii = min_moment(v.type_inertia[v.species[i]]) + v.mass[bi] * pb.arm_i[k] * pb.arm_i[k];
+      const double ij = min_moment(v.type_inertia[v.species[j]]) + v.mass[bj] * pb.arm_j[k] * pb.arm_j[k];
       inertia_r = ii * ij / (ii + ij);
     }
     const RollingOutput roll = Rolling::torque({.normal = {pb.nx[k], pb.ny[k], pb.nz[k]},
@@ -398,10 +401,10 @@ template <class Rolling>
       e.omega_j = part.twist.angular_velocity;
     }
     e.arm_i_len = arm_len;
-    e.inertia_r = min_moment(v.inertia[b]) + v.mass[b] * arm_len * arm_len;
+    e.inertia_r = min_moment(v.type_inertia[v.species[s]]) + v.mass[b] * arm_len * arm_len;
     e.mu_r = co.rolling_friction;
     lanes.push(normal, t.overlap, v_rel, v.radius[s], v.mass[b],
-               1.0 / v.mass[b] + arm_len * arm_len * max_component(v.inverse_inertia[b]), co);
+               1.0 / v.mass[b] + arm_len * arm_len * max_component(v.type_inverse_inertia[v.species[s]]), co);
     max_ratio = std::max(max_ratio, t.overlap / v.radius[s]);
   }
   for (int j = 0; j < max_part_touches; ++j) {  // contacts that ended start afresh
@@ -524,9 +527,9 @@ ContactViews views_of(World& w) {
   return {.x_b = ps.position,
           .v_b = ps.velocity,
           .w_b = ps.angular_velocity,
-          .inertia = ps.inertia,
-          .inverse_inertia = ps.inverse_inertia,
           .mass = ps.mass,
+          .type_inertia = ps.type_inertia(),
+          .type_inverse_inertia = ps.type_inverse_inertia(),
           .sphere_count = ps.sphere_count,
           .x_el = ps.sphere_position,
           .radius = ps.radius,

@@ -25,11 +25,11 @@ void kick(ParticleSystem& ps, double dt) {
   for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
     const auto b = static_cast<std::size_t>(sb);
     ps.velocity[b] += ps.force[b] * (dt / ps.mass[b]);
-    const Vec3& inv_inertia = ps.inverse_inertia[b];
+    const Vec3& inv_inertia = ps.inverse_inertia(b);
     const Vec3 omega = ps.angular_velocity[b];
     const double w0 = norm(omega);
     const bool resisted = ps.rolling_resistance[b] > 0.0 && w0 > 0.0;
-    if (is_isotropic(ps.inertia[b])) {  // same cap as below, in omega instead of L
+    if (is_isotropic(ps.inertia(b))) {  // same cap as below, in omega instead of L
       Vec3 w = omega + ps.torque[b] * (dt * inv_inertia.x);
       if (resisted) {
         const Vec3 u = omega / w0;
@@ -37,7 +37,7 @@ void kick(ParticleSystem& ps, double dt) {
         if (along > 0.0) w -= std::min(ps.rolling_resistance[b] * dt * inv_inertia.x, along) * u;
       }
       ps.angular_velocity[b] = w;
-      ps.angular_momentum[b] = ps.inertia[b].x * w;
+      ps.angular_momentum[b] = ps.inertia(b).x * w;
       continue;
     }
     // One rotation matrix serves every frame change: momentum, spin direction and the new
@@ -52,7 +52,7 @@ void kick(ParticleSystem& ps, double dt) {
       const Vec3 u_body = transpose_times(r, u);
       const double along = dot(scale(inv_inertia, l_body), u_body);  // new spin along u [rad/s]
       if (along > 0.0) {
-        const double inertia_u = dot(scale(ps.inertia[b], u_body), u_body);  // moment about u [kg m2]
+        const double inertia_u = dot(scale(ps.inertia(b), u_body), u_body);  // moment about u [kg m2]
         const double dl = std::min(ps.rolling_resistance[b] * dt, along * inertia_u);
         l -= dl * u;
         l_body -= dl * u_body;
@@ -93,12 +93,12 @@ Displacements drift(ParticleSystem& ps, const NeighborList& neighbors, std::vect
         continue;
       }
       Quat& q = ps.orientation[b];
-      if (is_isotropic(ps.inertia[b])) {
+      if (is_isotropic(ps.inertia(b))) {
         q = advance(q, ps.angular_velocity[b], dt);  // omega is constant
         ps.place_elements(b, to_matrix(q), measure);
         continue;
       }
-      const Vec3 &w = ps.angular_velocity[b], &ii = ps.inverse_inertia[b], &l = ps.angular_momentum[b];
+      const Vec3 &w = ps.angular_velocity[b], &ii = ps.inverse_inertia(b), &l = ps.angular_momentum[b];
       batch.qw[n] = q.w, batch.qx[n] = q.x, batch.qy[n] = q.y, batch.qz[n] = q.z;
       batch.wx[n] = w.x, batch.wy[n] = w.y, batch.wz[n] = w.z;
       batch.ix[n] = ii.x, batch.iy[n] = ii.y, batch.iz[n] = ii.z;
@@ -111,7 +111,7 @@ Displacements drift(ParticleSystem& ps, const NeighborList& neighbors, std::vect
       const std::size_t b = body[static_cast<std::size_t>(k)];
       ps.orientation[b] = {batch.qw[k], batch.qx[k], batch.qy[k], batch.qz[k]};
       const Mat3 r = to_matrix(ps.orientation[b]);
-      ps.angular_velocity[b] = angular_velocity_from_momentum(r, ps.inverse_inertia[b], ps.angular_momentum[b]);
+      ps.angular_velocity[b] = angular_velocity_from_momentum(r, ps.inverse_inertia(b), ps.angular_momentum[b]);
       ps.place_elements(b, r, measure);
     }
   }

@@ -105,7 +105,9 @@ void get_member(io::BinaryReader& in, T& m) {
 // engine.neighbors version 3 keeps the elements' ids at the build instead of each pair's
 // stable identity (versions 1 and 2 still load). engine.contacts version 1 held the second elements' slots too (one per
 // pair), which are the scratch of a step: version 2 leaves them out, and loading version 1 skips them.
-constexpr std::uint32_t parts_version = 1, particles_version = 1, neighbors_version = 3, contacts_version = 2,
+// engine.particles version 1 held each body's principal moments and each element's centre,
+// which version 2 leaves to the particle types (version 1 still loads, if they agree).
+constexpr std::uint32_t parts_version = 1, particles_version = 2, neighbors_version = 3, contacts_version = 2,
                         diagnostics_version = 1;
 
 void Simulation::save_state(io::BinaryWriter& out) const {
@@ -129,7 +131,11 @@ void Simulation::save_state(io::BinaryWriter& out) const {
 void Simulation::load_state(const io::SectionTable& in) {
   engine::World& w = *w_;
   in.read("engine.parts", parts_version, true, [&](io::BinaryReader& b) { load_parts(b, w); });
-  in.read("engine.particles", particles_version, true, [&](io::BinaryReader& b) { w.particles.load(b); });
+  {
+    io::SectionTable::Section s = in.get("engine.particles", particles_version);
+    w.particles.load(s.body, s.version);
+    io::SectionTable::expect_end(s.body, "engine.particles");
+  }
   // The derived tables (pair coefficients) and the neighbour list's configuration, then the
   // saved list and every per-pair and per-element array over them.
   const std::vector<Vec3> placed = w.particles.sphere_position;

@@ -1,5 +1,6 @@
 #include "bushel/particles/particle_system.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "bushel/core/input_error.hpp"
@@ -20,6 +21,11 @@ void apply(std::vector<T>& v, std::span<const std::uint32_t> order) {
 
 std::uint32_t ParticleSystem::add_type(ParticleType type) {
   validate(type.material);
+  const Vec3 moments = type.shape.principal_inertia(type.material.density);
+  type_inertia_.push_back(moments);
+  type_inverse_inertia_.push_back({1.0 / moments.x, 1.0 / moments.y, 1.0 / moments.z});
+  type_first_offset_.push_back(static_cast<std::uint32_t>(type_offsets_.size()));
+  for (const auto& e : type.shape.spheres) type_offsets_.push_back(e.centre);
   types_.push_back(std::move(type));
   return static_cast<std::uint32_t>(types_.size() - 1);
 }
@@ -38,8 +44,6 @@ std::uint32_t ParticleSystem::add(std::uint32_t type, const BodyState& s) {
   torque.push_back({});
   rolling_resistance.push_back(0.0);
   mass.push_back(t.mass());
-  inertia.push_back(t.shape.principal_inertia(t.material.density));
-  inverse_inertia.push_back({1.0 / inertia.back().x, 1.0 / inertia.back().y, 1.0 / inertia.back().z});
   angular_momentum.push_back(spin_momentum(b));
   first_sphere.push_back(static_cast<std::uint32_t>(spheres()));
   sphere_count.push_back(static_cast<std::uint32_t>(t.shape.spheres.size()));
@@ -47,7 +51,6 @@ std::uint32_t ParticleSystem::add(std::uint32_t type, const BodyState& s) {
     sphere_id.push_back(next_sphere_id_++);
     owner.push_back(b);
     species.push_back(type);
-    offset.push_back(e.centre);
     radius.push_back(e.radius);
     sphere_position.push_back(s.position + rotate(orientation.back(), e.centre));
   }
@@ -70,16 +73,12 @@ std::vector<std::uint32_t> ParticleSystem::permute(std::span<const std::uint32_t
     for (std::uint32_t k = 0; k < sphere_count[ob]; ++k) sphere_order.push_back(first_sphere[ob] + k);
   }
   for (auto* v : {&body_id, &body_type, &sphere_count}) apply(*v, order);
-  for (auto* v :
-       {&position, &velocity, &angular_velocity, &angular_momentum, &force, &torque, &inertia, &inverse_inertia}) {
-    apply(*v, order);
-  }
+  for (auto* v : {&position, &velocity, &angular_velocity, &angular_momentum, &force, &torque}) apply(*v, order);
   apply(orientation, order);
   apply(mass, order);
   apply(rolling_resistance, order);
   first_sphere = std::move(new_first);
   for (auto* v : {&sphere_id, &species}) apply(*v, sphere_order);
-  apply(offset, sphere_order);
   apply(sphere_position, sphere_order);
   apply(radius, sphere_order);
   owner.resize(sphere_order.size());  // fewer elements when `order` keeps a subset
@@ -91,12 +90,14 @@ std::vector<std::uint32_t> ParticleSystem::permute(std::span<const std::uint32_t
 
 double ParticleSystem::rotational_energy(std::size_t b) const {
   const Vec3 w = rotate_inverse(orientation[b], angular_velocity[b]);  // body frame
-  return 0.5 * (inertia[b].x * w.x * w.x + inertia[b].y * w.y * w.y + inertia[b].z * w.z * w.z);
+  const Vec3& i = inertia(b);
+  return 0.5 * (i.x * w.x * w.x + i.y * w.y * w.y + i.z * w.z * w.z);
 }
 
 Vec3 ParticleSystem::spin_momentum(std::size_t b) const {
   const Vec3 w = rotate_inverse(orientation[b], angular_velocity[b]);
-  return rotate(orientation[b], Vec3{inertia[b].x * w.x, inertia[b].y * w.y, inertia[b].z * w.z});
+  const Vec3& i = inertia(b);
+  return rotate(orientation[b], Vec3{i.x * w.x, i.y * w.y, i.z * w.z});
 }
 
 double ParticleSystem::kinetic_energy() const {
@@ -120,19 +121,16 @@ void ParticleSystem::save(io::BinaryWriter& out) const {
   out.put(torque);
   out.put(rolling_resistance);
   out.put(mass);
-  out.put(inertia);
-  out.put(inverse_inertia);
   out.put(first_sphere);
   out.put(sphere_count);
   out.put(sphere_id);
   out.put(owner);
   out.put(species);
-  out.put(offset);
   out.put(radius);
   out.put(sphere_position);
 }
 
-void ParticleSystem::load(io::BinaryReader& in) {
+void ParticleSystem::load(io::BinaryReader& in, std::uint32_t version) {
   if (in.get<std::uint64_t>() != types_.size()) {
     throw InputError("the checkpoint has another number of particle types than the scenario");
   }
@@ -149,33 +147,50 @@ void ParticleSystem::load(io::BinaryReader& in) {
   in.get(torque);
   in.get(rolling_resistance);
   in.get(mass);
-  in.get(inertia);
-  in.get(inverse_inertia);
+  std::vector<Vec3> moments, inverse_moments, centres;  // (version 1: per body and element)
+  if (version == 1) in.get(moments), in.get(inverse_moments);
   in.get(first_sphere);
   in.get(sphere_count);
   in.get(sphere_id);
   in.get(owner);
   in.get(species);
-  in.get(offset);
+  if (version == 1) in.get(centres);
   in.get(radius);
   in.get(sphere_position);
   // A damaged file must not index out of bounds later.
   const std::size_t nb = body_id.size(), ns = sphere_id.size();
   bool ok = true;
-  for (const std::size_t n :
-       {body_type.size(), position.size(), orientation.size(), velocity.size(), angular_velocity.size(),
-        angular_momentum.size(), force.size(), torque.size(), rolling_resistance.size(), mass.size(), inertia.size(),
-        inverse_inertia.size(), first_sphere.size(), sphere_count.size()}) {
+  for (const std::size_t n : {body_type.size(), position.size(), orientation.size(), velocity.size(),
+                              angular_velocity.size(), angular_momentum.size(), force.size(), torque.size(),
+                              rolling_resistance.size(), mass.size(), first_sphere.size(), sphere_count.size()}) {
     ok = ok && n == nb;
   }
-  for (const std::size_t n : {owner.size(), species.size(), offset.size(), radius.size(), sphere_position.size()}) {
-    ok = ok && n == ns;
-  }
+  for (const std::size_t n : {owner.size(), species.size(), radius.size(), sphere_position.size()}) ok = ok && n == ns;
   for (std::size_t b = 0; ok && b < nb; ++b) {
-    ok = body_type[b] < types_.size() && std::size_t{first_sphere[b]} + sphere_count[b] <= ns;
+    ok = body_type[b] < types_.size() && std::size_t{first_sphere[b]} + sphere_count[b] <= ns &&
+         sphere_count[b] == types_[body_type[b]].shape.spheres.size();
   }
-  for (std::size_t s = 0; ok && s < ns; ++s) ok = owner[s] < nb && species[s] < types_.size();
+  for (std::size_t s = 0; ok && s < ns; ++s) ok = owner[s] < nb && species[s] == body_type[owner[s]];
   if (!ok) throw InputError("the checkpoint's particles are inconsistent (a damaged file?)");
+  check_type_shapes(version == 1, moments, inverse_moments, centres);
+}
+
+void ParticleSystem::check_type_shapes(bool with_moments, std::span<const Vec3> moments,
+                                       std::span<const Vec3> inverse_moments, std::span<const Vec3> centres) const {
+  bool same = !with_moments ||
+              (moments.size() == bodies() && inverse_moments.size() == bodies() && centres.size() == spheres());
+  for (std::size_t b = 0; same && b < bodies(); ++b) {
+    const ParticleType& t = types_[body_type[b]];
+    same = mass[b] == t.mass();
+    for (std::uint32_t k = 0; same && k < sphere_count[b]; ++k)
+      same = radius[first_sphere[b] + k] == t.shape.spheres[k].radius;
+    same = same &&
+           (!with_moments || (moments[b] == inertia(b) && inverse_moments[b] == inverse_inertia(b) &&
+                              std::equal(offsets(b).begin(), offsets(b).end(), centres.begin() + first_sphere[b])));
+  }
+  if (!same) {
+    throw InputError("the checkpoint's particles have other shapes or densities than the scenario's particle types");
+  }
 }
 
 }  // namespace bushel

@@ -2,8 +2,8 @@
 // The particle store: rigid bodies (spheres and clumps) and their sphere elements, in
 // structure-of-arrays form (one array per field, so that the hot loops stream and vectorise).
 // A body owns a contiguous run of sphere elements; every element records its owner body, so
-// contacts work on elements and forces are summed onto owners. Arrays are reordered by spatial sorting, so each body and
-// each element also carries a stable id that never changes.
+// contacts work on elements and forces are summed onto owners. Arrays are reordered by spatial sorting, so each body
+// and each element also carries a stable id that never changes.
 
 #include <cstdint>
 #include <span>
@@ -54,12 +54,28 @@ class ParticleSystem {
   template <class Placed>
   void place_elements(std::size_t b, const Mat3& r, Placed&& placed) {
     const std::uint32_t s0 = first_sphere[b], n = sphere_count[b];
+    const Vec3* const centre = offsets(b).data();
     const Vec3 x = position[b];
-    for (std::uint32_t s = s0; s < s0 + n; ++s) {
-      const Vec3 p = x + r * offset[s];
-      sphere_position[s] = p;
-      placed(s, p);
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const Vec3 p = x + r * centre[k];
+      sphere_position[s0 + k] = p;
+      placed(s0 + k, p);
     }
+  }
+
+  // What every body of a type shares is kept once per type: a lone sphere's store is its
+  // motion, its mass and its element.
+  /// Principal moments of body b [kg m2].
+  const Vec3& inertia(std::size_t b) const { return type_inertia_[body_type[b]]; }
+  /// Their inverses [1/(kg m2)], so the step multiplies.
+  const Vec3& inverse_inertia(std::size_t b) const { return type_inverse_inertia_[body_type[b]]; }
+  /// Principal moments per type [kg m2] (index: body_type, or an element's species).
+  std::span<const Vec3> type_inertia() const { return type_inertia_; }
+  /// Their inverses per type [1/(kg m2)].
+  std::span<const Vec3> type_inverse_inertia() const { return type_inverse_inertia_; }
+  /// Centres of body b's elements in its principal frame [m], in element order.
+  std::span<const Vec3> offsets(std::size_t b) const {
+    return std::span<const Vec3>(type_offsets_).subspan(type_first_offset_[body_type[b]], sphere_count[b]);
   }
   /// Reorders bodies (and their elements, contiguously) to `order` (new index -> old index);
   /// bodies missing from `order` are dropped.
@@ -69,7 +85,9 @@ class ParticleSystem {
   /// Every body and element (not the types), for a checkpoint; `load` restores them exactly
   /// into a system with the same types (throws InputError otherwise).
   void save(io::BinaryWriter& out) const;
-  void load(io::BinaryReader& in);
+  /// `version` of the section: version 1 also held each body's moments and each element's
+  /// centre. Masses, radii (and those) must be the types' (throws InputError otherwise).
+  void load(io::BinaryReader& in, std::uint32_t version);
 
   /// Translational plus rotational kinetic energy [J].
   double kinetic_energy() const;
@@ -90,21 +108,27 @@ class ParticleSystem {
   std::vector<Vec3> torque;                 ///< total torque about the centre of mass, world [N m]
   std::vector<double> rolling_resistance;   ///< CDT rolling torque magnitude of the last step [N m]
   std::vector<double> mass;                 ///< [kg]
-  std::vector<Vec3> inertia;                ///< principal moments [kg m2]
-  std::vector<Vec3> inverse_inertia;        ///< their inverses [1/(kg m2)], so the step multiplies
   std::vector<std::uint32_t> first_sphere;  ///< index of the body's first element
   std::vector<std::uint32_t> sphere_count;  ///< number of elements
 
   // --- sphere elements (index s) ----------------------------------------------------------
   std::vector<std::uint32_t> sphere_id;  ///< stable id
   std::vector<std::uint32_t> owner;      ///< body index
-  std::vector<std::uint32_t> species;    ///< contact species (= particle type)
-  std::vector<Vec3> offset;              ///< centre in the body's principal frame [m]
+  std::vector<std::uint32_t> species;    ///< contact species (= the owner's body_type)
   std::vector<double> radius;            ///< [m]
   std::vector<Vec3> sphere_position;     ///< world centre, refreshed each step [m]
 
  private:
+  // The loaded bodies' masses and elements' radii against their types' (a scenario whose
+  // types changed since the checkpoint), and `with_moments` (version 1) the saved moments and
+  // centres too.
+  void check_type_shapes(bool with_moments, std::span<const Vec3> moments, std::span<const Vec3> inverse_moments,
+                         std::span<const Vec3> centres) const;
+
   std::vector<ParticleType> types_;
+  std::vector<Vec3> type_inertia_, type_inverse_inertia_;  // per type [kg m2], [1/(kg m2)]
+  std::vector<Vec3> type_offsets_;                         // the types' element centres, type by type [m]
+  std::vector<std::uint32_t> type_first_offset_;           // a type's first in type_offsets_
   std::uint32_t next_body_id_ = 0;
   std::uint32_t next_sphere_id_ = 0;
 };
