@@ -25,6 +25,8 @@ SectionTable::SectionTable(BinaryReader& in) : in_(&in) {
     const auto sum = in.get<std::uint64_t>();
     e.bytes = in.take(length);  // (damage if the file ends first)
     if (checksum(e.bytes) != sum) in.damaged(fmt::format("section '{}' does not match its checksum", e.name));
+    // (the checksum covers the body only; versions count from 1, so a 0 is a flipped bit)
+    if (e.version == 0) in.damaged(fmt::format("section '{}' of version 0", e.name));
     for (const Entry& other : entries_) {
       if (other.name == e.name) in.damaged(fmt::format("section '{}' twice", e.name));
     }

@@ -52,6 +52,14 @@ TEST(SectionTable, RefusesAbsentNewerRepeatedAndDamagedSections) {
   flipped.back() = static_cast<char>(flipped.back() ^ 1);
   EXPECT_NE(damage_of(flipped, "a", 1).find("section 'b' does not match its checksum"), std::string::npos);
   EXPECT_NE(damage_of(bytes.substr(0, bytes.size() - 1), "a", 1).find("it ends early"), std::string::npos);
+  // The checksum covers a section's body, not its version: a version of 2 whose bit flipped
+  // to 0 is damage, not the oldest format.
+  std::string zero = bytes;
+  // (section a: name length 8, "a", version 4, length 8, checksum 8, body 8; then b's name)
+  const std::size_t b_version = 37 + 8 + 1;
+  ASSERT_EQ(zero[b_version], '\x02');
+  zero[b_version] = '\0';
+  EXPECT_NE(damage_of(zero, "b", 2).find("section 'b' of version 0"), std::string::npos);
 }
 
 }  // namespace

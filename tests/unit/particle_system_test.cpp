@@ -134,7 +134,8 @@ TEST(ParticleSystem, ACheckpointOfOtherShapesIsRefused) {
   std::vector<Vec3> moments = moments_of(ps);
   moments[4].y *= 1.0 + 1e-12;
   ParticleSystem old = mixed();
-  io::BinaryReader in1(version_1_bytes(ps, moments), "version 1");
+  const std::string v1 = version_1_bytes(ps, moments);  // (the reader views it)
+  io::BinaryReader in1(v1, "version 1");
   try {
     old.load(in1, 1);
     FAIL() << "loaded a checkpoint of other moments";
