@@ -1,5 +1,7 @@
 #include "bushel/io/binary_archive.hpp"
 
+#include <algorithm>
+
 #include <xxhash.h>
 
 #include <fmt/format.h>
@@ -49,6 +51,14 @@ SectionTable::Section SectionTable::get(std::string_view name, std::uint32_t new
   auto s = find(name, newest);
   if (!s) in_->damaged(fmt::format("it has no section '{}'", name));
   return std::move(*s);
+}
+
+void SectionTable::expect_known(std::span<const std::string_view> known) const {
+  for (const Entry& e : entries_) {
+    if (std::find(known.begin(), known.end(), e.name) == known.end()) {
+      in_->damaged(fmt::format("a section of unknown name '{}'", e.name));
+    }
+  }
 }
 
 void SectionTable::expect_end(const BinaryReader& body, std::string_view name) {

@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -222,6 +224,9 @@ ScenarioDocument read_checkpoint_head(io::BinaryReader& in, const std::string& p
         .at(path);
   }
   sections.emplace(in);
+  std::vector<std::string_view> known{"build", "scenario", "run", "factories", "sinks", "flows", "frames", "guards"};
+  known.insert(known.end(), Simulation::state_sections.begin(), Simulation::state_sections.end());
+  sections->expect_known(known);
   (void)sections->get("build", build_version);
   // The scenario as it was resolved (overrides applied, parameters substituted), read again
   // as if from its file, so that relative paths (meshes, templates) still resolve.

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <string>
 
 #include "bushel/core/input_error.hpp"
@@ -60,6 +61,23 @@ TEST(SectionTable, RefusesAbsentNewerRepeatedAndDamagedSections) {
   ASSERT_EQ(zero[b_version], '\x02');
   zero[b_version] = '\0';
   EXPECT_NE(damage_of(zero, "b", 2).find("section 'b' of version 0"), std::string::npos);
+}
+
+// A name is not under any checksum: a flipped bit in it is caught by the names a build knows.
+TEST(SectionTable, RefusesASectionOfAnUnknownName) {
+  std::string bytes = two_sections();
+  BinaryReader in(bytes, "f");
+  const std::array<std::string_view, 2> known{"a", "b"};
+  EXPECT_NO_THROW(SectionTable(in).expect_known(known));
+  bytes[37 + 8] = 'c';  // section b's name (after section a, as above)
+  BinaryReader renamed(bytes, "f");
+  try {
+    SectionTable(renamed).expect_known(known);
+    FAIL() << "a section of an unknown name passed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("damaged checkpoint (a section of unknown name 'c')"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -12,10 +12,12 @@
 //   6. move the geometry parts (motion.hpp)
 // Particles enter through add_body and leave through remove_bodies.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bushel/contact/contact_model.hpp"
@@ -99,6 +101,9 @@ class Simulation {
   /// engine.diagnostics it continues from zero force sums.
   void save_state(io::BinaryWriter& out) const;
   void load_state(const io::SectionTable& in);
+  /// The names of the sections that save_state writes.
+  static constexpr std::array<std::string_view, 5> state_sections{
+      "engine.parts", "engine.particles", "engine.neighbors", "engine.contacts", "engine.diagnostics"};
   /// The checkpoint format that a run writes and reads (scenario_run.cpp): 4, named and
   /// versioned sections with checksums. A checkpoint of another format is refused.
   static constexpr int checkpoint_format = 4;

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstring>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -143,6 +144,9 @@ class SectionTable {
   std::optional<Section> find(std::string_view name, std::uint32_t newest) const;
   /// Section `name`; damage if it is absent.
   Section get(std::string_view name, std::uint32_t newest) const;
+  /// Damage if a section's name is none of `known`: the checksums cover the bodies, not the
+  /// names, so a flipped bit in an optional section's name would otherwise pass as its absence.
+  void expect_known(std::span<const std::string_view> known) const;
   /// Reads section `name` with `read(BinaryReader&)`, which must read every byte of it; an
   /// absent section is damage if `required`, else skipped. Returns whether it was there.
   template <class F>
