@@ -16,6 +16,8 @@
 #include "bushel/doe/design.hpp"
 #include "bushel/doe/desirability.hpp"
 #include "bushel/doe/regression.hpp"
+#include "bushel/doe/row_filter.hpp"
+#include "bushel/io/csv.hpp"
 #include "bushel/particles/material.hpp"
 #include "bushel/particles/pseudo_ellipsoid.hpp"
 #include "bushel/particles/template_library.hpp"
@@ -325,6 +327,18 @@ PYBIND11_MODULE(_bushel, m) {
          double alpha) { return doe::fit(coded, y, factors, doe::parse_model(model), alpha); },
       py::arg("coded"), py::arg("y"), py::arg("factors"), py::arg("model"), py::arg("alpha"));
   m.def("_build", [] { return bushel::build_description(); });
+  m.def(
+      "_rows_kept",
+      [](const std::string& path, const std::string& where) {
+        // (the same conditions, and errors, as `bushel doe analyze --where`)
+        const doe::RowFilter filter = doe::RowFilter::parse(where);
+        const bushel::io::CsvTable table = bushel::io::CsvTable::read(path);
+        filter.check_columns(table);
+        std::vector<bool> kept;
+        for (const bushel::io::CsvRow& row : table.rows()) kept.push_back(filter.keeps(table, row));
+        return kept;
+      },
+      py::arg("path"), py::arg("where"));
   m.def(
       "_maximize_desirability",
       [](const std::vector<const doe::Fit*>& fits, const std::vector<std::string>& goals,

@@ -17,6 +17,7 @@ packages=(
   libyaml-cpp-dev libcli11-dev libeigen3-dev nlohmann-json3-dev libfmt-dev libxxhash-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev libopenmpi-dev openmpi-bin
   python3 python3-dev pybind11-dev python3-numpy python3-matplotlib python3-yaml python3-pandas
+  python3-scipy python3-sklearn
   jupyter-nbconvert python3-nbclient python3-ipykernel
   paraview python3-paraview xz-utils
   clang-16 libclang-rt-16-dev llvm-16

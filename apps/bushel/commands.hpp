@@ -16,6 +16,8 @@ void add_verify_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
 void add_bin_command(CLI::App& app);
 void add_doe_command(CLI::App& app);
+/// `calibrate`: Bayesian calibration, run by the Python package's driver.
+void add_calibrate_command(CLI::App& app);
 /// `report`: run folders as tables and plots.
 void add_report_command(CLI::App& app);
 /// `run` and `validate`: scenario files.

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   bushel::cli::add_demo_command(app);
   bushel::cli::add_bin_command(app);
   bushel::cli::add_doe_command(app);
+  bushel::cli::add_calibrate_command(app);
   bushel::cli::add_run_command(app);
   bushel::cli::add_preview_command(app);
   bushel::cli::add_report_command(app);
