@@ -150,10 +150,15 @@ def calibrate(parameters, targets, evaluate, settings=None, records=None, log=pr
     if len(records) < len(start):
         run(start[len(records):min(len(start), settings.budget)], 0)
     batch = max([r.batch for r in records], default=0)
+    while sum(r.ok for r in records) < 2 and len(records) < settings.budget:
+        # too few runs succeeded to fit anything: more of a Latin hypercube, apart from the first
+        batch += 1
+        size = min(max(settings.batch, 2), settings.budget - len(records))
+        run(qmc.LatinHypercube(len(parameters), seed=settings.seed + 7919 * batch).random(size), batch)
+    if sum(r.ok for r in records) < 2:
+        raise RuntimeError(f"only {sum(r.ok for r in records)} of {len(records)} runs succeeded within the budget: "
+                           "nothing to fit; see the failed runs' stderr.txt (docs/calibration.md)")
     while True:
-        if sum(r.ok for r in records) < 2:
-            status = "failed"
-            break
         models, failure = _fit(records, targets, settings.seed)
         best, p_best, done = _validated(records, models, targets, settings.confidence)
         log(f"calibrate: {len(records)} runs; best so far P(meet) {p_best:.3f} at " +
@@ -165,8 +170,6 @@ def calibrate(parameters, targets, evaluate, settings=None, records=None, log=pr
         size = min(settings.batch, settings.budget - len(records))
         run(surrogate.next_batch(models, targets, prior, failure, size, settings.seed + batch, settings.candidates),
             batch)
-    if status == "failed":
-        raise RuntimeError(f"fewer than 2 of {len(records)} runs succeeded: nothing to fit (docs/calibration.md)")
     return _result(parameters, targets, records, models, failure, prior, best, p_best, status, settings)
 
 

@@ -18,6 +18,7 @@ import csv
 import json
 import os
 import sys
+import warnings
 
 import numpy as np
 
@@ -57,17 +58,20 @@ class CampaignEvaluator:
         if os.path.exists(self.observed_json):
             self.observed = json.load(open(self.observed_json))
 
-    def _table(self, rows, design):
+    def _table(self, rows, design, extra=None):
         """Points `rows` (0-based) as CSV: the point's number from 1 (as std_order and run_order
-        in a design; with its batch in points.csv), its values and its seed."""
-        lines = [",".join((list(_BOOKKEEPING) if design else ["point", "batch"]) + self.factors)]
+        in a design; with its batch in points.csv), its values, its seed, and the columns
+        `extra` ({name: value}: a command's case, the same in every row)."""
+        extra = extra or {}
+        head = (list(_BOOKKEEPING) if design else ["point", "batch"]) + self.factors + list(extra)
+        lines = [",".join(head)]
         for k in rows:
             r = self.rows[k]
             cells = [str(k + 1), str(k + 1) if design else str(r["batch"])]
             cells += [repr(r["values"][n]) for n in self.names]
             if self.spec.seed_parameter:
                 cells.append(str(self.spec.settings.seed * 100000 + k + 1))  # each run its own packing
-            lines.append(",".join(cells))
+            lines.append(",".join(cells + [str(v) for v in extra.values()]))
         return "\n".join(lines) + "\n"
 
     def responses(self, case):
@@ -102,14 +106,20 @@ class CampaignEvaluator:
             folder = os.path.join(self.out, case or "runs", f"batch_{batch}")
             os.makedirs(folder, exist_ok=True)
             design = os.path.join(folder, "design.csv")
-            _write_atomically(design, self._table(range(first, last), True))
+            # (a command's case is columns of its design, for its {name} placeholders)
+            _write_atomically(design, self._table(range(first, last), True, None if spec.scenario else overrides))
             self.log(f"calibrate: batch {batch}{' of case ' + case if case else ''}: points {first + 1} to {last}")
             common = dict(responses=self.responses(case), jobs=self.jobs, threads=self.threads, ranks=self.ranks)
-            if spec.scenario:
-                c = doe.run(design, folder, scenario=spec.scenario, set={**spec.set, **overrides}, factors=self.factors,
-                            **common)
-            else:
-                c = doe.run(design, folder, command=spec.command, **common)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)  # (failed runs are counted below)
+                if spec.scenario:
+                    c = doe.run(design, folder, scenario=spec.scenario, set={**spec.set, **overrides},
+                                factors=self.factors, **common)
+                else:
+                    c = doe.run(design, folder, command=spec.command, **common)
+            if len(c.failed):
+                self.log(f"calibrate: runs {', '.join(str(first + k) for k in c.failed)} failed and do not count "
+                         f"(their stderr.txt in {folder})")
             kept = _rows_kept(os.path.join(folder, "results.csv"), spec.where) if spec.where else None
             for k, order in enumerate(c.table["std_order"]):
                 i = int(order) - 1 - first

@@ -78,13 +78,16 @@ class _Reader:
             self.fail(node, key, f"expected at least {low}, got {value}")
         return value
 
-    def quantity(self, node, key, dimension=None):
-        """A number (SI) or a value with its unit: (SI value, dimension or None)."""
+    def quantity(self, node, key, dimension=None, like=None):
+        """A number (SI) or a value with its unit: (SI value, dimension or None). With `like`
+        (the key it must agree with), of `dimension`, or a bare number if that is None."""
         text = self.scalar(node, key)
         try:
             return float(text), dimension
         except ValueError:
             pass
+        if like and not dimension:
+            self.fail(node, key, f"expected a number in the SI unit of {like} (which has no unit), got '{text}'")
         for dim in ([dimension] if dimension else _DIMENSIONS):
             try:
                 return parse(text, dim), dim
@@ -134,6 +137,8 @@ def read_spec(path):
             r.fail(node, "command", f"expected a list (the program and its arguments), got {_kind(node)}")
         spec.command = [r.scalar(a, f"command[{i}]").replace("{spec_dir}", here) for i, a in enumerate(node.value)]
     spec.set = r.overrides(top["set"], "set") if "set" in top else {}
+    if spec.command and spec.set:
+        r.fail(top["set"], "set", "set goes with a scenario; a command takes its fixed values in its arguments")
     if "seed_parameter" in top:
         spec.seed_parameter = r.scalar(top["seed_parameter"], "seed_parameter")
     _read_parameters(r, top, spec)
@@ -163,15 +168,15 @@ def _read_parameters(r, top, spec):
             if k not in p:
                 r.fail(node, f"{key}.{k}", f"the key '{k}' is missing: the range is low .. high")
         low, dim = r.quantity(p["low"], f"{key}.low")
-        high, _ = r.quantity(p["high"], f"{key}.high", dim)
+        high, _ = r.quantity(p["high"], f"{key}.high", dim, f"{key}.low")
         if not high > low:
             r.fail(p["high"], f"{key}.high", f"expected more than low ({low}), got {high}")
         par = Parameter(name, low, high)
         if ("prior_mean" in p) != ("prior_sd" in p):
             r.fail(node, key, "a prior needs both prior_mean and prior_sd (a normal, cut to the range)")
         if "prior_mean" in p:
-            par.prior_mean, _ = r.quantity(p["prior_mean"], f"{key}.prior_mean", dim)
-            par.prior_sd, _ = r.quantity(p["prior_sd"], f"{key}.prior_sd", dim)
+            par.prior_mean, _ = r.quantity(p["prior_mean"], f"{key}.prior_mean", dim, f"{key}.low")
+            par.prior_sd, _ = r.quantity(p["prior_sd"], f"{key}.prior_sd", dim, f"{key}.low")
             if not par.prior_sd > 0:
                 r.fail(p["prior_sd"], f"{key}.prior_sd", f"expected more than 0, got {par.prior_sd}")
         spec.parameters.append(par)
@@ -189,6 +194,10 @@ def _read_cases_and_targets(r, top, spec):
             if not re.fullmatch(r"[A-Za-z0-9_-]+", name):
                 r.fail(node, f"cases.{name}", "expected a name of letters, digits, '_' and '-' (it names a folder)")
             spec.cases[name] = r.overrides(node, f"cases.{name}")
+            for k in spec.cases[name]:
+                if spec.command and (not re.fullmatch(r"[A-Za-z_]\w*", k) or re.search(r"[,\n\"]", spec.cases[name][k])):
+                    r.fail(node, f"cases.{name}.{k}", "a command's case gives values to its {name} placeholders: "
+                                                      "expected a name of letters, digits and '_' with a value without commas or quotes")
     if "targets" not in top:
         r.fail(None, "targets", "the key 'targets' is missing: give each measured response with value, sd and "
                                 "tolerance")
@@ -202,7 +211,7 @@ def _read_cases_and_targets(r, top, spec):
         numbers = {}
         for k in ("sd", "tolerance", "scatter"):
             if k in t:
-                numbers[k], _ = r.quantity(t[k], f"{key}.{k}", dim)
+                numbers[k], _ = r.quantity(t[k], f"{key}.{k}", dim, f"{key}.value")
                 if not numbers[k] > 0:
                     r.fail(t[k], f"{key}.{k}", f"expected more than 0, got {numbers[k]}")
         case = r.scalar(t["case"], f"{key}.case") if "case" in t else ""
