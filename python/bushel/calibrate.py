@@ -105,7 +105,8 @@ def _prior(parameters):
                 continue
             x = par.value(u[:, k])
             peak = np.clip(par.prior_mean, par.low, par.high)
-            p *= np.exp(-0.5 * (((x - par.prior_mean) / par.prior_sd) ** 2 - ((peak - par.prior_mean) / par.prior_sd) ** 2))
+            z, z_peak = (x - par.prior_mean) / par.prior_sd, (peak - par.prior_mean) / par.prior_sd
+            p *= np.exp(-0.5 * (z * z - z_peak * z_peak))
         return p
     return prior
 

@@ -40,7 +40,8 @@ def _markdown(spec, result, j):
     lines = [f"# Calibration: {os.path.basename(spec.source)}", "", f"Status: {status}.", "",
              f"Runs: {result.runs} ({sum(not r.ok for r in result.records)} failed or excluded"
              f"{' by where: ' + spec.where if spec.where else ''}); build {j['build']}.", "",
-             "## Best point", "", "| parameter | value | posterior mean | sd | 5 % | 95 % |", "|---|---|---|---|---|---|"]
+             "## Best point", "", "| parameter | value | posterior mean | sd | 5 % | 95 % |",
+             "|---|---|---|---|---|---|"]
     for p in spec.parameters:
         q = result.posterior[p.name]
         lines.append(f"| {p.name} | {b['parameters'][p.name]:.6g} | {q['mean']:.4g} | {q['sd']:.3g} | {q['q05']:.4g} | "

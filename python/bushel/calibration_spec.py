@@ -194,10 +194,11 @@ def _read_cases_and_targets(r, top, spec):
             if not re.fullmatch(r"[A-Za-z0-9_-]+", name):
                 r.fail(node, f"cases.{name}", "expected a name of letters, digits, '_' and '-' (it names a folder)")
             spec.cases[name] = r.overrides(node, f"cases.{name}")
-            for k in spec.cases[name]:
-                if spec.command and (not re.fullmatch(r"[A-Za-z_]\w*", k) or re.search(r"[,\n\"]", spec.cases[name][k])):
+            for k, v in spec.cases[name].items():
+                if spec.command and (not re.fullmatch(r"[A-Za-z_]\w*", k) or re.search(r"[,\n\"]", v)):
                     r.fail(node, f"cases.{name}.{k}", "a command's case gives values to its {name} placeholders: "
-                                                      "expected a name of letters, digits and '_' with a value without commas or quotes")
+                                                      "expected a name of letters, digits and '_' with a value "
+                                                      "without commas or quotes")
     if "targets" not in top:
         r.fail(None, "targets", "the key 'targets' is missing: give each measured response with value, sd and "
                                 "tolerance")

@@ -32,7 +32,8 @@ class ResponseModel:
         self.shift, self.scale = scale or (float(np.mean(values)), float(np.std(values)) or 1.0)
         if kernel is None:
             low = max((floor / self.scale) ** 2, 1e-8)
-            noise = ((scatter / self.scale) ** 2, "fixed") if scatter else (max(1e-2, 2 * low), (low, max(1.0, 4 * low)))
+            fitted = (max(1e-2, 2 * low), (low, max(1.0, 4 * low)))
+            noise = ((scatter / self.scale) ** 2, "fixed") if scatter else fitted
             kernel = (ConstantKernel(1.0, (1e-2, 1e2)) *
                       Matern(length_scale=np.full(d, 0.5), length_scale_bounds=(0.05, 20.0), nu=2.5) +
                       WhiteKernel(*noise))

@@ -12,7 +12,6 @@ import sys
 
 import numpy as np
 
-import bushel
 from bushel.calibrate import Parameter, Settings, Target, calibrate
 
 bushel_program, work = os.path.abspath(sys.argv[1]), sys.argv[2]
