@@ -14,13 +14,15 @@ from scipy.special import ndtr
 from scipy.stats import qmc
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.gaussian_process import GaussianProcessClassifier, GaussianProcessRegressor
-from sklearn.gaussian_process.kernels import ConstantKernel, Matern, WhiteKernel
+from sklearn.gaussian_process.kernels import ConstantKernel, DotProduct, Matern, WhiteKernel
 
 
 class ResponseModel:
     """One response's Gaussian process: a constant times a Matern 5/2 kernel with a length
-    scale per parameter, plus white noise (the seed-to-seed scatter of the runs), fitted by
-    maximum likelihood on the normalised response. The noise's standard deviation is
+    scale per parameter, plus a linear kernel (a prior on a trend: far from the runs the
+    surrogate follows the runs' slope instead of falling back to their mean, which sent batches
+    to the box's far corners), plus white noise (the seed-to-seed scatter of the runs), fitted
+    by maximum likelihood on the normalised response. The noise's standard deviation is
     `scatter` where that is known, else fitted, at least `floor` (a few runs cannot tell noise
     from signal: fitted freely, the noise came out near zero and a lucky run passed as
     confirmation)."""
@@ -36,7 +38,7 @@ class ResponseModel:
             noise = ((scatter / self.scale) ** 2, "fixed") if scatter else fitted
             kernel = (ConstantKernel(1.0, (1e-2, 1e2)) *
                       Matern(length_scale=np.full(d, 0.5), length_scale_bounds=(0.05, 20.0), nu=2.5) +
-                      WhiteKernel(*noise))
+                      ConstantKernel(1.0, (1e-3, 1e2)) * DotProduct(1.0, "fixed") + WhiteKernel(*noise))
             optimizer, restarts = "fmin_l_bfgs_b", 4
         else:  # a fitted kernel kept (the fantasies of a batch)
             optimizer, restarts = None, 0
