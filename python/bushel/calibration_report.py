@@ -106,12 +106,12 @@ def plot(spec, result, out):
 
     d = len(spec.parameters)
     names = [p.name for p in spec.parameters]
-    fig, axes = plt.subplots(max(1, d - 1), max(1, d - 1), figsize=(3.2 * max(1, d - 1), 3.0 * max(1, d - 1)),
-                             squeeze=False)
+    n = max(1, d - 1)
+    fig, axes = plt.subplots(n, n, figsize=(max(6.0, 3.2 * n), max(4.5, 3.0 * n)), squeeze=False)
     x = np.array([[r.values[n] for n in names] for r in result.records])
     ok = np.array([r.ok for r in result.records])
-    for i in range(max(1, d - 1)):
-        for k in range(max(1, d - 1)):
+    for i in range(n):
+        for k in range(n):
             ax = axes[i, k]
             if d == 1:
                 order = np.argsort(result.samples[:, 0])
@@ -135,10 +135,11 @@ def plot(spec, result, out):
             ax.set_ylim(spec.parameters[c].low, spec.parameters[c].high)
             ax.set_xlabel(names[a])
             ax.set_ylabel(names[c])
+    fig.subplots_adjust(hspace=0.4, wspace=0.4)  # (before the colour bar, which takes its room from the axes)
     if d > 1 and len(result.region):
         fig.colorbar(sc, ax=axes.ravel().tolist(), label="P(meet every target)", shrink=0.8)
-    fig.subplots_adjust(hspace=0.4, wspace=0.4)
-    fig.suptitle("parameters that meet the targets (dots), runs (circles; x failed), best (star)", fontsize=9)
+    fig.suptitle("where every target is met (dots, P >= 0.5), the runs (circles; x: failed) and the best point (star)",
+                 fontsize=9)
     fig.savefig(os.path.join(out, "region.png.tmp.png"), dpi=100)
     os.replace(os.path.join(out, "region.png.tmp.png"), os.path.join(out, "region.png"))
     plt.close(fig)
