@@ -129,7 +129,9 @@ print(f"\nR2 {screen['r2']:.4f}. Kept for the response surface: {', '.join(kept)
       f"Fixed: {fixed.replace('--set parameters.', '') or 'none'}.\n")
 print(f"## Response surface (face-centred CCD, {rsm['runs']} runs fitted, quadratic)\n")
 print(left_out("rsm", kept))
-print(f"R2 {rsm['r2']:.4f}, adjusted R2 {rsm['r2_adjusted']:.4f}, predicted R2 {rsm['r2_predicted']:.4f}, "
+# (predicted R2 is undefined, null, where a run has leverage 1: left out, nothing predicts it)
+r2_predicted = "undefined" if rsm["r2_predicted"] is None else f"{rsm['r2_predicted']:.4f}"
+print(f"R2 {rsm['r2']:.4f}, adjusted R2 {rsm['r2_adjusted']:.4f}, predicted R2 {r2_predicted}, "
       f"S {rsm['s']:.2f} kg/m3\n")
 print("| source | DF | adj SS | F | p |\n|---|---|---|---|---|")
 for a in rsm["anova"]:
