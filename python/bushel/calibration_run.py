@@ -164,8 +164,14 @@ def _write_atomically(path, text):
     os.replace(path + ".tmp", path)
 
 
+class _Arguments(argparse.ArgumentParser):
+    def error(self, message):  # (one line, as the program's own errors)
+        print(f"bushel: error: {message} (bushel calibrate --help lists the options)", file=sys.stderr)
+        sys.exit(2)
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="bushel calibrate",
+    ap = _Arguments(prog="bushel calibrate",
                                  description="Calibrate parameters against measured targets (docs/calibration.md)")
     ap.add_argument("spec", help="the calibration file (YAML)")
     ap.add_argument("--out", required=True, help="folder of the calibration (continued if it exists)")
