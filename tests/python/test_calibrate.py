@@ -74,6 +74,13 @@ a, b = json.load(open("stopped/calibration.json")), json.load(open("through/cali
 check(open("stopped/points.csv").read() == open("through/points.csv").read(), "the same points stopped or not")
 check(a["best"] == b["best"], f"the same best point: {a['best']} vs {b['best']}")
 
+# On MPI ranks (rank 0 hands out the batch's runs) the same points and values.
+if shutil.which("mpirun"):
+    os.environ.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")  # (CI containers run as root)
+    calibrate_cli("model.yaml", "--out", "ranks", "--budget", "7", "--ranks", "3")
+    check(open("ranks/points.csv").read().splitlines() == open("through/points.csv").read().splitlines()[:8],
+          "the same points on MPI ranks")
+
 # The answer: validated, within the tolerance of the noise-free model, in fewer runs than a
 # 3-level factorial with replicates would take.
 check(b["status"] == "validated", f"validated: {b['status']}")
