@@ -13,6 +13,7 @@ import sys
 import numpy as np
 
 from bushel.calibrate import Parameter, Settings, Target, calibrate
+from bushel.calibration_spec import read_spec
 
 bushel_program, work = os.path.abspath(sys.argv[1]), sys.argv[2]
 shutil.rmtree(work, ignore_errors=True)
@@ -154,6 +155,24 @@ r = calibrate([Parameter("a", 0, 1), Parameter("b", 0, 1)], [Target("y", 112, 0.
               Settings(batch=1, budget=20, seed=1), log=lambda s: None)
 check(r.status == "validated" and abs(truth(**r.best["parameters"]) - 112) <= 1, f"API: {r.status} {r.best}")
 
+# A prior moves the posterior along the solution set (the line 20 a - 10 b + 5 a b = 12):
+# with b ~ N(0.2, 0.05) the posterior of b centres near 0.2, and a near (12 + 2) / 21 = 0.67.
+rng = np.random.default_rng(6)
+r = calibrate([Parameter("a", 0, 1), Parameter("b", 0, 1, prior_mean=0.2, prior_sd=0.05)],
+              [Target("y", 112, 0.5, 1.0, scatter=0.5)],
+              lambda pts, batch: [{"y": truth(p["a"], p["b"]) + rng.normal(0, 0.5)} for p in pts],
+              Settings(batch=1, budget=20, seed=1), log=lambda s: None)
+post = r.posterior
+check(abs(post["b"]["mean"] - 0.2) < 0.06 and post["b"]["sd"] < 0.08, f"the prior on b: {post['b']}")
+check(abs(post["a"]["mean"] - 14 / 21) < 0.08, f"a on the line at b = 0.2: {post['a']}")
+
+# The file's priors and units reach the parameters in SI.
+with open("prior.yaml", "w") as f:
+    f.write(SPEC.format(python=sys.executable).replace("a: {low: 0, high: 1}",
+                                                       "a: {low: 1 mm, high: 5 mm, prior_mean: 2 mm, prior_sd: 0.5 mm}"))
+pa = read_spec("prior.yaml").parameters[0]
+check((pa.low, pa.high, pa.prior_mean, pa.prior_sd) == (0.001, 0.005, 0.002, 0.0005), f"prior in SI: {pa}")
+
 # A folder holding another calibration is refused.
 with open("other.yaml", "w") as f:
     f.write(SPEC.format(python=sys.executable).replace("a: {low: 0, high: 1}", "a: {low: 0, high: 2}"))
@@ -178,6 +197,8 @@ bad = [
     (good.replace("  y: {value: 112", "  y: {value: [112]"), ":7: key 'targets.y.value': expected a value, got a list"),
     ("a: [1, 2\n", ":2: not valid YAML"),
     (good + "set: {x: 1}\n", ":12: key 'set': set goes with a scenario"),
+    (good.replace("a: {low: 0, high: 1}", "a: {low: 0, high: 1, prior_mean: 0.5}"),
+     ":4: key 'parameters.a': a prior needs both prior_mean and prior_sd"),
 ]
 for k, (text, expected) in enumerate(bad):
     path = f"bad{k}.yaml"
