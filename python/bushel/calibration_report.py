@@ -6,11 +6,13 @@ import os
 
 import numpy as np
 
+from .doe import _write_atomically
 
-def _atomic(path, text):
-    with open(path + ".tmp", "w") as f:
-        f.write(text)
-    os.replace(path + ".tmp", path)
+
+def _save(fig, path):
+    """The figure as a PNG, written under another name and renamed (never half written)."""
+    fig.savefig(path + ".tmp.png", dpi=100)
+    os.replace(path + ".tmp.png", path)
 
 
 def result_json(spec, result, build):
@@ -100,8 +102,7 @@ def plot(spec, result, out):
         ax.set_ylabel(t.name)
         ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "convergence.png.tmp.png"), dpi=100)
-    os.replace(os.path.join(out, "convergence.png.tmp.png"), os.path.join(out, "convergence.png"))
+    _save(fig, os.path.join(out, "convergence.png"))
     plt.close(fig)
 
     d = len(spec.parameters)
@@ -140,14 +141,13 @@ def plot(spec, result, out):
         fig.colorbar(sc, ax=axes.ravel().tolist(), label="P(meet every target)", shrink=0.8)
     fig.suptitle("where every target is met (dots, P >= 0.5), the runs (circles; x: failed) and the best point (star)",
                  fontsize=9)
-    fig.savefig(os.path.join(out, "region.png.tmp.png"), dpi=100)
-    os.replace(os.path.join(out, "region.png.tmp.png"), os.path.join(out, "region.png"))
+    _save(fig, os.path.join(out, "region.png"))
     plt.close(fig)
 
 
 def write_report(spec, result, out, build):
     j = result_json(spec, result, build)
-    _atomic(os.path.join(out, "calibration.json"), json.dumps(j, indent=1))
-    _atomic(os.path.join(out, "calibration.md"), _markdown(spec, result, j))
-    _atomic(os.path.join(out, "runs.csv"), _runs_csv(spec, result))
+    _write_atomically(os.path.join(out, "calibration.json"), json.dumps(j, indent=1))
+    _write_atomically(os.path.join(out, "calibration.md"), _markdown(spec, result, j))
+    _write_atomically(os.path.join(out, "runs.csv"), _runs_csv(spec, result))
     plot(spec, result, out)

@@ -23,6 +23,7 @@ import warnings
 import numpy as np
 
 from . import doe
+from .doe import _write_atomically
 from ._bushel import InputError, _build, _rows_kept
 from .calibrate import Record, Settings, calibrate
 from .calibration_report import write_report
@@ -156,12 +157,6 @@ def run_calibration(spec, out, jobs=None, threads=0, ranks=None, budget=None, lo
     result = calibrate(spec.parameters, spec.targets, evaluator.evaluate, settings, records, log)
     write_report(spec, result, out, _build())
     return result
-
-
-def _write_atomically(path, text):
-    with open(path + ".tmp", "w") as f:
-        f.write(text)
-    os.replace(path + ".tmp", path)
 
 
 class _Arguments(argparse.ArgumentParser):
