@@ -39,7 +39,7 @@ BedMeasure measure_bed(const PourScene& scene, double fraction) {
   for (const auto& x : p.position) top = std::max(top, x.z);
   const double h = fraction * top;
   double mass = 0.0;
-  for (std::size_t b = 0; b < p.bodies(); ++b) mass += p.position[b].z <= h ? p.mass[b] : 0.0;
+  for (std::size_t b = 0; b < p.bodies(); ++b) mass += p.position[b].z <= h ? p.mass(b) : 0.0;
   const double volume = std::numbers::pi * scene.container_radius * scene.container_radius * h;
   const double rho = p.types().front().material.density;
   return {top, h, mass / volume, mass / volume / rho};

@@ -14,8 +14,8 @@
 #include "bushel/core/input_error.hpp"
 #include "bushel/experiments/funnel_scene.hpp"
 #include "bushel/io/atomic_file.hpp"
-#include "bushel/scenario/frame_writer.hpp"
 #include "bushel/io/stl.hpp"
+#include "bushel/scenario/frame_writer.hpp"
 #include "commands.hpp"
 
 namespace bushel::cli {
@@ -62,7 +62,7 @@ void run_funnel(const FunnelOptions& o) {
   FunnelScene scene = make_funnel_scene(spec);
   Simulation& sim = scene.simulation;
   double total = 0.0;
-  for (const double mb : sim.particles().mass) total += mb;
+  for (std::size_t b = 0; b < sim.particles().bodies(); ++b) total += sim.particles().mass(b);
   std::optional<io::FrameWriter> frames;
   if (!o.out.empty()) frames.emplace(o.out);
   const double dt = sim.settings().dt;

@@ -56,7 +56,7 @@ FunnelScene make_funnel_scene(const FunnelSpec& spec) {
 double discharged_mass(const FunnelScene& scene) {
   const auto& p = scene.simulation.particles();
   double m = 0.0;
-  for (std::size_t b = 0; b < p.bodies(); ++b) m += p.position[b].z < scene.gate_z ? p.mass[b] : 0.0;
+  for (std::size_t b = 0; b < p.bodies(); ++b) m += p.position[b].z < scene.gate_z ? p.mass(b) : 0.0;
   return m;
 }
 

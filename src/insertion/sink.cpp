@@ -20,7 +20,7 @@ std::size_t apply_sinks(Simulation& sim, std::vector<Sink>& sinks, const Region&
   for (Sink& s : sinks) size_up(s);
   auto tally = [&](Sink& s, std::size_t b) {
     ++s.count[ps.body_type[b]];
-    s.mass[ps.body_type[b]] += ps.mass[b];
+    s.mass[ps.body_type[b]] += ps.mass(b);
   };
   std::vector<std::size_t> gone;
   for (std::size_t b = 0; b < ps.bodies(); ++b) {

@@ -117,13 +117,13 @@ struct Workspace {
 struct ContactViews {
   // bodies [b]
   std::span<const Vec3> x_b, v_b, w_b;
-  std::span<const double> mass;
   // types [species of an element = body_type of its owner]
+  std::span<const double> type_mass;
   std::span<const Vec3> type_inertia, type_inverse_inertia;
   std::span<const std::uint32_t> sphere_count;
   // sphere elements [s]
   std::span<const Vec3> x_el;
-  std::span<const double> radius, element_moved2;
+  std::span<const double> radius;
   std::span<const std::uint32_t> owner, species;
   // pairs [p] of the neighbour list, with their contact-law history and result slots
   std::span<const std::uint32_t> first, second;
@@ -240,7 +240,7 @@ std::size_t slot_of(const ContactViews& v, std::size_t p, std::uint32_t j) {
     pb.vjx[k] = vj.x, pb.vjy[k] = vj.y, pb.vjz[k] = vj.z;
     pb.wix[k] = wi.x, pb.wiy[k] = wi.y, pb.wiz[k] = wi.z;
     pb.wjx[k] = wj.x, pb.wjy[k] = wj.y, pb.wjz[k] = wj.z;
-    pb.mi[k] = v.mass[bi], pb.mj[k] = v.mass[bj];
+    pb.mi[k] = v.type_mass[v.species[i]], pb.mj[k] = v.type_mass[v.species[j]];
     const double* hist = v.history + std::size_t{p} * static_cast<std::size_t>(v.h);
     pb.xi_x[k] = hist[0], pb.xi_y[k] = hist[1], pb.xi_z[k] = hist[2];
     // j's sums, which finish_pairs adds to after the batch is solved, miss the cache otherwise.
@@ -280,9 +280,8 @@ template <class Rolling>
     Vec3 spring = Rolling::history_size ? load3(hist + 3) : Vec3{};
     double inertia_r = 0.0;
     if constexpr (Rolling::uses_inertia) {
-      const std::uint32_t bi = v.owner[i], bj = v.owner[j];
-      const double ii = min_moment(v.type_inertia[v.species[i]]) + v.mass[bi] * pb.arm_i[k] * pb.arm_i[k];
-      const double ij = min_moment(v.type_inertia[v.species[j]]) + v.mass[bj] * pb.arm_j[k] * pb.arm_j[k];
+      const double ii = min_moment(v.type_inertia[v.species[i]]) + pb.mi[k] * pb.arm_i[k] * pb.arm_i[k];
+      const double ij = min_moment(v.type_inertia[v.species[j]]) + pb.mj[k] * pb.arm_j[k] * pb.arm_j[k];
       inertia_r = ii * ij / (ii + ij);
     }
     const RollingOutput roll = Rolling::torque({.normal = {pb.nx[k], pb.ny[k], pb.nz[k]},
@@ -369,9 +368,10 @@ template <class Rolling>
   std::array<PartTouch, max_part_touches> touches;
   const std::size_t f0 = v.candidate_face_start[cw], nf = v.candidate_face_start[cw + 1] - f0;
   // Faces further than the sphere and the part have moved since the build are skipped.
-  const int n = part_touches(
-      pg.faces, v.candidate_faces.subspan(f0, nf), transpose_times(pg.rotation, v.x_el[s] - origin), v.radius[s],
-      touches, v.candidate_face_distance.subspan(f0, nf), nf > 1 ? std::sqrt(v.element_moved2[s]) + pg.moved : 0.0);
+  const double moved = nf > 1 ? std::sqrt(v.neighbors->displacement2(s, v.x_el[s])) + pg.moved : 0.0;
+  const int n =
+      part_touches(pg.faces, v.candidate_faces.subspan(f0, nf), transpose_times(pg.rotation, v.x_el[s] - origin),
+                   v.radius[s], touches, v.candidate_face_distance.subspan(f0, nf), moved);
   const std::size_t slot_size = 3 + static_cast<std::size_t>(v.h);
   double* slots = v.part_history + cw * max_part_touches * slot_size;
   v.part_reaction[2 * cw] = v.part_reaction[2 * cw + 1] = Vec3{};
@@ -401,10 +401,11 @@ template <class Rolling>
       e.omega_j = part.twist.angular_velocity;
     }
     e.arm_i_len = arm_len;
-    e.inertia_r = min_moment(v.type_inertia[v.species[s]]) + v.mass[b] * arm_len * arm_len;
+    const double mass = v.type_mass[v.species[s]];
+    e.inertia_r = min_moment(v.type_inertia[v.species[s]]) + mass * arm_len * arm_len;
     e.mu_r = co.rolling_friction;
-    lanes.push(normal, t.overlap, v_rel, v.radius[s], v.mass[b],
-               1.0 / v.mass[b] + arm_len * arm_len * max_component(v.type_inverse_inertia[v.species[s]]), co);
+    lanes.push(normal, t.overlap, v_rel, v.radius[s], mass,
+               1.0 / mass + arm_len * arm_len * max_component(v.type_inverse_inertia[v.species[s]]), co);
     max_ratio = std::max(max_ratio, t.overlap / v.radius[s]);
   }
   for (int j = 0; j < max_part_touches; ++j) {  // contacts that ended start afresh
@@ -527,13 +528,12 @@ ContactViews views_of(World& w) {
   return {.x_b = ps.position,
           .v_b = ps.velocity,
           .w_b = ps.angular_velocity,
-          .mass = ps.mass,
+          .type_mass = ps.type_mass(),
           .type_inertia = ps.type_inertia(),
           .type_inverse_inertia = ps.type_inverse_inertia(),
           .sphere_count = ps.sphere_count,
           .x_el = ps.sphere_position,
           .radius = ps.radius,
-          .element_moved2 = w.element_moved2,
           .owner = ps.owner,
           .species = ps.species,
           .first = w.neighbors.firsts(),

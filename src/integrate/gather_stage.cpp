@@ -49,16 +49,18 @@ void sum_part_reactions(PartCandidates& pc, std::span<Part> parts, StepDiagnosti
   }
 }
 
-void gather(ParticleSystem& ps, ContactSums& sums, const NeighborList& neighbors, const Vec3& gravity) {
+void gather(const ParticleSystem& ps, ContactSums& sums, const NeighborList& neighbors, const Vec3& gravity) {
   // Per element: its own sums, then the sum of its shares as second element in pair order,
   // which the contact stage kept (direct) or which is summed here from the pair slots in the
-  // same order; the accumulators are zeroed for the next step.
+  // same order; the second-element accumulators are zeroed for the next step. The body's
+  // totals take its first element's own sums (read before), which the next contact stage
+  // zeroes again: no per-body arrays.
   const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
   const Vec3 g = gravity;  // (a copy: through the reference it is reloaded after every store)
 #pragma omp parallel for schedule(static) if (nb > parallel_threshold)
   for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
     const auto b = static_cast<std::size_t>(sb);
-    Vec3 f = ps.mass[b] * g, t;
+    Vec3 f = ps.mass(b) * g, t;
     double cdt = 0.0;
     for (std::uint32_t s = ps.first_sphere[b]; s < ps.first_sphere[b] + ps.sphere_count[b]; ++s) {
       f += sums.element_force[s];
@@ -86,17 +88,37 @@ void gather(ParticleSystem& ps, ContactSums& sums, const NeighborList& neighbors
       t += t_second;
       cdt += cdt_second;
     }
-    ps.force[b] = f;
-    ps.torque[b] = t;
-    ps.rolling_resistance[b] = cdt;
+    const std::uint32_t s0 = ps.first_sphere[b];
+    sums.element_force[s0] = f;
+    sums.element_torque[s0] = t;
+    sums.element_cdt[s0] = cdt;
   }
 }
 
-double unbalanced_force_ratio(const ParticleSystem& ps, const StepDiagnostics& d) {
+namespace {
+
+// v reordered to `order` (new index -> old); an old index past its end (an element added
+// since the last step) gives zero.
+template <class T>
+void reorder(std::vector<T>& v, std::span<const std::uint32_t> order) {
+  std::vector<T> out(order.size());
+  for (std::size_t s = 0; s < out.size(); ++s) out[s] = order[s] < v.size() ? v[order[s]] : T{};
+  v = std::move(out);
+}
+
+}  // namespace
+
+void permute_body_sums(ContactSums& sums, std::span<const std::uint32_t> sphere_order) {
+  reorder(sums.element_force, sphere_order);
+  reorder(sums.element_torque, sphere_order);
+  reorder(sums.element_cdt, sphere_order);
+}
+
+double unbalanced_force_ratio(const ParticleSystem& ps, const ContactSums& sums, const StepDiagnostics& d) {
   const std::size_t n = ps.bodies(), touching = d.contacts + d.part_contacts;
   if (n == 0) return 0.0;
   double net = 0.0;  // (in body order: the same sum for any thread count)
-  for (std::size_t b = 0; b < n; ++b) net += norm(ps.force[b]);
+  for (std::size_t b = 0; b < n; ++b) net += has_sums(ps, sums, b) ? norm(body_force(ps, sums, b)) : 0.0;
   const double contact = d.pair_force_sum + d.part_force_sum;
   if (touching == 0 || !(contact > 0.0)) return net > 0.0 ? 1.0 : 0.0;
   return (net / static_cast<double>(n)) / (contact / static_cast<double>(touching));

@@ -19,22 +19,24 @@ bool is_isotropic(const Vec3& i) { return i.x == i.y && i.y == i.z; }
 
 }  // namespace
 
-void kick(ParticleSystem& ps, double dt) {
+void kick(ParticleSystem& ps, const ContactSums& sums, double dt) {
   const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
 #pragma omp parallel for schedule(static) if (nb > parallel_threshold)
   for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
     const auto b = static_cast<std::size_t>(sb);
-    ps.velocity[b] += ps.force[b] * (dt / ps.mass[b]);
+    const Vec3 &force = body_force(ps, sums, b), &torque = body_torque(ps, sums, b);
+    const double rolling_resistance = body_rolling_resistance(ps, sums, b);
+    ps.velocity[b] += force * (dt / ps.mass(b));
     const Vec3& inv_inertia = ps.inverse_inertia(b);
     const Vec3 omega = ps.angular_velocity[b];
     const double w0 = norm(omega);
-    const bool resisted = ps.rolling_resistance[b] > 0.0 && w0 > 0.0;
+    const bool resisted = rolling_resistance > 0.0 && w0 > 0.0;
     if (is_isotropic(ps.inertia(b))) {  // same cap as below, in omega instead of L
-      Vec3 w = omega + ps.torque[b] * (dt * inv_inertia.x);
+      Vec3 w = omega + torque * (dt * inv_inertia.x);
       if (resisted) {
         const Vec3 u = omega / w0;
         const double along = dot(w, u);
-        if (along > 0.0) w -= std::min(ps.rolling_resistance[b] * dt * inv_inertia.x, along) * u;
+        if (along > 0.0) w -= std::min(rolling_resistance * dt * inv_inertia.x, along) * u;
       }
       ps.angular_velocity[b] = w;
       ps.angular_momentum[b] = ps.inertia(b).x * w;
@@ -43,7 +45,7 @@ void kick(ParticleSystem& ps, double dt) {
     // One rotation matrix serves every frame change: momentum, spin direction and the new
     // angular velocity. The cap is linear in L, so it is applied in both frames at once.
     const Mat3 r = to_matrix(ps.orientation[b]);
-    Vec3 l = ps.angular_momentum[b] + ps.torque[b] * dt;
+    Vec3 l = ps.angular_momentum[b] + torque * dt;
     Vec3 l_body = transpose_times(r, l);
     // Constant directional rolling torque against the body's own spin, capped so that it can
     // stop the spin within this step but never reverse it (docs/physics.md section 2: the CDT sign flip).
@@ -53,7 +55,7 @@ void kick(ParticleSystem& ps, double dt) {
       const double along = dot(scale(inv_inertia, l_body), u_body);  // new spin along u [rad/s]
       if (along > 0.0) {
         const double inertia_u = dot(scale(ps.inertia(b), u_body), u_body);  // moment about u [kg m2]
-        const double dl = std::min(ps.rolling_resistance[b] * dt, along * inertia_u);
+        const double dl = std::min(rolling_resistance * dt, along * inertia_u);
         l -= dl * u;
         l_body -= dl * u_body;
       }
@@ -63,7 +65,7 @@ void kick(ParticleSystem& ps, double dt) {
   }
 }
 
-Displacements drift(ParticleSystem& ps, const NeighborList& neighbors, std::vector<double>& moved2_of, double dt) {
+Displacements drift(ParticleSystem& ps, const NeighborList& neighbors, double dt) {
   const std::size_t nb = ps.bodies();
   constexpr std::size_t block = RotationBatch::capacity;
   const auto blocks = static_cast<std::ptrdiff_t>((nb + block - 1) / block);
@@ -74,9 +76,7 @@ Displacements drift(ParticleSystem& ps, const NeighborList& neighbors, std::vect
     // The elements are measured against their margins in the neighbour list while at hand
     // (declared in the loop so that it updates this thread's copy of excess).
     const auto measure = [&](std::uint32_t s, const Vec3& p) {
-      const double d2 = neighbors.displacement2(s, p);
-      moved2_of[s] = d2;  // bounds the part-face distances (find_part_candidates)
-      excess = std::max(excess, neighbors.excess2(s, d2));
+      excess = std::max(excess, neighbors.excess2(s, neighbors.displacement2(s, p)));
     };
     // The block's clumps with anisotropic inertia rotate together (rotation_batch.hpp); each
     // body's result does not depend on which others share its batch.

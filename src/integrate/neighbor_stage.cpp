@@ -109,7 +109,7 @@ bool narrower_skin(const World& w, std::uint64_t elapsed, double& narrower) {
 
 // Bodies in the order of the cells of a grid (z-major, a cube of 1024 cells a side), so that
 // neighbours in space become neighbours in memory; ties by stable id.
-void spatial_sort(ParticleSystem& ps, double skin) {
+void spatial_sort(ParticleSystem& ps, ContactSums& sums, double skin) {
   const std::size_t n = ps.bodies();
   if (n < 2) return;
   Vec3 lo{INFINITY, INFINITY, INFINITY};
@@ -127,7 +127,9 @@ void spatial_sort(ParticleSystem& ps, double skin) {
   std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(),
             [&](auto a, auto b) { return key[a] != key[b] ? key[a] < key[b] : ps.body_id[a] < ps.body_id[b]; });
-  ps.permute(order);  // part-contact histories follow the spheres' ids (find_part_candidates)
+  // The bodies' last forces follow them (between steps a removal sorts); part-contact
+  // histories follow the spheres' ids (find_part_candidates).
+  permute_body_sums(sums, ps.permute(order));
 }
 
 // The faces of part `w` within `reach` of the point p (in the part frame), appended to the
@@ -179,7 +181,7 @@ struct OldCandidates {
 // build is due when a part has moved half the skin (move_parts), so a sphere further than its
 // margin and half the skin from a face cannot reach it before the next build.
 void find_part_candidates(const ParticleSystem& ps, std::span<const Part> parts, std::span<PartGeometry> geometry,
-                          const NeighborList& neighbors, PartCandidates& pc, std::vector<double>& element_moved2) {
+                          const NeighborList& neighbors, PartCandidates& pc) {
   const std::size_t n_s = ps.spheres();
   const std::size_t slots = max_part_touches * (3 + static_cast<std::size_t>(neighbors.history_size()));
   const OldCandidates old(pc, ps.sphere_id);
@@ -190,7 +192,6 @@ void find_part_candidates(const ParticleSystem& ps, std::span<const Part> parts,
   pc.face_start.assign(1, 0);
   pc.faces.clear();
   pc.face_distance.clear();
-  element_moved2.assign(n_s, 0.0);
   pc.history.clear();
   std::vector<std::uint32_t> near;
   for (std::size_t s = 0; s < n_s; ++s) {
@@ -234,18 +235,16 @@ void split_into_chunks(std::size_t n_s, const NeighborList& neighbors, const Par
 }
 
 // The most an element has moved past its margin since the last build (NeighborList::excess2)
-// [m2], each element's squared displacement recorded in moved2 (for the part-face bound):
-// after changes from outside, which the drift did not measure. An element added since the
-// build has an infinite one.
-double measure_displacements(const ParticleSystem& ps, const NeighborList& neighbors, std::vector<double>& moved2) {
+// [m2]: after changes from outside, which the drift did not measure. An element added since
+// the build has an infinite one.
+double measure_displacements(const ParticleSystem& ps, const NeighborList& neighbors) {
   const auto& x = ps.sphere_position;
   const auto n = static_cast<std::ptrdiff_t>(x.size());
   double worst = -std::numeric_limits<double>::infinity();
 #pragma omp parallel for schedule(static) reduction(max : worst) if (n > parallel_threshold)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const auto e = static_cast<std::size_t>(i);
-    moved2[e] = neighbors.displacement2(e, x[e]);
-    worst = std::max(worst, neighbors.excess2(e, moved2[e]));
+    worst = std::max(worst, neighbors.excess2(e, neighbors.displacement2(e, x[e])));
   }
   return worst;
 }
@@ -257,18 +256,18 @@ void rebuild_neighbors(World& w, bool adapt) {
   w.skin.last_build_step = w.steps;
   const int sort_every = w.settings.sort_every;
   if (sort_every > 0 && w.neighbors.builds() % static_cast<std::size_t>(sort_every) == 0) {
-    spatial_sort(w.particles, w.neighbors.skin());
+    spatial_sort(w.particles, w.sums, w.neighbors.skin());
   }
   const auto& ps = w.particles;
   w.neighbors.build(ps.sphere_position, ps.radius, ps.owner, ps.sphere_id, element_margins(ps, w.neighbors.skin()));
-  find_part_candidates(ps, w.parts, w.geometry, w.neighbors, w.candidates, w.element_moved2);
+  find_part_candidates(ps, w.parts, w.geometry, w.neighbors, w.candidates);
   split_into_chunks(ps.spheres(), w.neighbors, w.candidates, w.sums.chunk_start);
 }
 
 void update_neighbors(World& w) {
   bool due = w.displacements == Displacements::past_skin, moved = due;
   if (w.displacements == Displacements::unknown) {
-    const double worst = measure_displacements(w.particles, w.neighbors, w.element_moved2);
+    const double worst = measure_displacements(w.particles, w.neighbors);
     due = w.neighbors.needs_rebuild(worst);
     // (not motion: the first build, or elements added since the last)
     moved = due && std::isfinite(worst) && w.neighbors.builds() > 0;

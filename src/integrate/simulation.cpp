@@ -49,7 +49,16 @@ void Simulation::reset_peak_overlap_ratio() { w_->diagnostics.peak_overlap_ratio
 std::size_t Simulation::contacts() const { return w_->diagnostics.contacts; }
 const NeighborList& Simulation::neighbors() const { return w_->neighbors; }
 double Simulation::unbalanced_force_ratio() const {
-  return engine::unbalanced_force_ratio(w_->particles, w_->diagnostics);
+  return engine::unbalanced_force_ratio(w_->particles, w_->sums, w_->diagnostics);
+}
+namespace {
+const Vec3 no_force{};
+}  // namespace
+const Vec3& Simulation::body_force(std::size_t b) const {
+  return engine::has_sums(w_->particles, w_->sums, b) ? engine::body_force(w_->particles, w_->sums, b) : no_force;
+}
+const Vec3& Simulation::body_torque(std::size_t b) const {
+  return engine::has_sums(w_->particles, w_->sums, b) ? engine::body_torque(w_->particles, w_->sums, b) : no_force;
 }
 
 void Simulation::set_time_step(double dt) {
@@ -155,7 +164,6 @@ void Simulation::prepare_steps() {
   s.second_torque.resize(n_s);
   s.second_cdt.resize(n_s);
   s.second_direct.resize(n_s);
-  w.element_moved2.resize(n_s, 0.0);  // a build is due for new elements anyway (size change)
   w.particles.update_sphere_positions();
   // Particles may have been added or moved from outside: their displacements are measured.
   w.displacements = engine::Displacements::unknown;
@@ -175,7 +183,7 @@ void Simulation::remove_bodies(std::span<const std::size_t> bodies) {
   for (std::size_t b = 0; b < n; ++b) {
     if (!gone[b]) keep.push_back(static_cast<std::uint32_t>(b));
   }
-  ps.permute(keep);  // a permutation onto a subset drops the rest
+  engine::permute_body_sums(w_->sums, ps.permute(keep));  // a permutation onto a subset drops the rest
   // The neighbour list and the part candidates index elements: both are found again now
   // (their histories follow the stable ids), so that what reads them between steps (a
   // sensor) sees the bodies that remain; the stored forces belong to the old bodies.
@@ -201,8 +209,8 @@ void Simulation::step(std::uint64_t n) {
   // A kick over kick_dt, then the drift and the parts over dt: the displacements since the
   // build are measured on the way.
   auto kick_drift_move = [&](double kick_dt) {
-    engine::kick(w.particles, kick_dt);
-    w.displacements = engine::drift(w.particles, w.neighbors, w.element_moved2, dt);
+    engine::kick(w.particles, w.sums, kick_dt);
+    w.displacements = engine::drift(w.particles, w.neighbors, dt);
     engine::move_parts(w.parts, w.geometry, w.neighbors.skin(), w.time, dt, w.candidates);
     w.time += dt;
   };
@@ -217,7 +225,7 @@ void Simulation::step(std::uint64_t n) {
       if (!w.forces_valid) compute_forces();
       kick_drift_move(0.5 * dt);
       compute_forces();
-      engine::kick(w.particles, 0.5 * dt);
+      engine::kick(w.particles, w.sums, 0.5 * dt);
     } else {
       compute_forces();
       kick_drift_move(dt);

@@ -13,9 +13,11 @@ namespace bushel {
 namespace {
 
 // Calls f on each member that save_state writes after the neighbour list, in file order: one
-// list for writing and reading (W is World or const World).
+// list for writing and reading (W is World or const World). `moved2`: where a version 1 or 2
+// section held each element's displacement since the build (found again from the neighbour
+// list now), to be read and dropped; null for version 3.
 template <class W, class F>
-void each_saved_member(W& w, F&& f) {
+void each_saved_member(W& w, F&& f, std::vector<double>* moved2 = nullptr) {
   static_assert(std::is_same_v<std::size_t, std::uint64_t>, "counts are stored as 64-bit");
   auto& s = w.sums;
   auto& c = w.candidates;
@@ -35,7 +37,7 @@ void each_saved_member(W& w, F&& f) {
   f(c.face_start);
   f(c.faces);
   f(c.face_distance);
-  f(w.element_moved2);
+  if (moved2) f(*moved2);
   f(c.history);
   f(c.reaction);
   f(c.touches);
@@ -98,6 +100,23 @@ void get_member(io::BinaryReader& in, T& m) {
   }
 }
 
+// The bodies' last forces from a particles section of version 1 or 2 into their first
+// elements' own sums, where the gather leaves them (body_force).
+void put_saved_forces(engine::World& w, const ParticleSystem::SavedForces& saved) {
+  const ParticleSystem& ps = w.particles;
+  if (saved.force.empty()) return;
+  if (w.sums.element_force.size() != ps.spheres() || w.sums.element_torque.size() != ps.spheres() ||
+      w.sums.element_cdt.size() != ps.spheres()) {
+    throw InputError("the checkpoint's contact sums do not match its particles (a damaged file?)");
+  }
+  for (std::size_t b = 0; b < ps.bodies(); ++b) {
+    const std::uint32_t s0 = ps.first_sphere[b];
+    w.sums.element_force[s0] = saved.force[b];
+    w.sums.element_torque[s0] = saved.torque[b];
+    w.sums.element_cdt[s0] = saved.rolling_resistance[b];
+  }
+}
+
 }  // namespace
 
 // The engine's sections of a checkpoint and their versions: each is written and read here by
@@ -106,8 +125,11 @@ void get_member(io::BinaryReader& in, T& m) {
 // stable identity (versions 1 and 2 still load). engine.contacts version 1 held the second elements' slots too (one per
 // pair), which are the scratch of a step: version 2 leaves them out, and loading version 1 skips them.
 // engine.particles version 1 held each body's principal moments and each element's centre,
-// which version 2 leaves to the particle types (version 1 still loads, if they agree).
-constexpr std::uint32_t parts_version = 1, particles_version = 2, neighbors_version = 3, contacts_version = 2,
+// which version 2 leaves to the particle types (version 1 still loads, if they agree);
+// version 3 leaves each body's mass to its type and its last forces to the contact sums
+// (engine.contacts), which hold them from version 3 on and no longer the elements'
+// displacements since the build.
+constexpr std::uint32_t parts_version = 1, particles_version = 3, neighbors_version = 3, contacts_version = 3,
                         diagnostics_version = 1;
 
 void Simulation::save_state(io::BinaryWriter& out) const {
@@ -131,9 +153,10 @@ void Simulation::save_state(io::BinaryWriter& out) const {
 void Simulation::load_state(const io::SectionTable& in) {
   engine::World& w = *w_;
   in.read("engine.parts", parts_version, true, [&](io::BinaryReader& b) { load_parts(b, w); });
+  ParticleSystem::SavedForces saved;
   {
     io::SectionTable::Section s = in.get("engine.particles", particles_version);
-    w.particles.load(s.body, s.version);
+    saved = w.particles.load(s.body, s.version);
     io::SectionTable::expect_end(s.body, "engine.particles");
   }
   // The derived tables (pair coefficients) and the neighbour list's configuration, then the
@@ -153,8 +176,11 @@ void Simulation::load_state(const io::SectionTable& in) {
       std::vector<double> cdt;
       s.body.get(force), s.body.get(torque), s.body.get(cdt);
     }
-    each_saved_member(w, [&](auto& m) { get_member(s.body, m); });
+    std::vector<double> moved2;
+    each_saved_member(
+        w, [&](auto& m) { get_member(s.body, m); }, s.version < 3 ? &moved2 : nullptr);
     io::SectionTable::expect_end(s.body, "engine.contacts");
+    put_saved_forces(w, saved);
     w.sums.direct_team = 0;  // (the slots are found again at the first step)
   }
   // Without its diagnostics a state still continues (the unbalanced force ratio is unknown

@@ -41,18 +41,41 @@ void compute_contacts(World& w);
 /// blocks; the sphere-part force sums into `d`.
 void sum_part_reactions(PartCandidates& candidates, std::span<Part> parts, StepDiagnostics& d);
 /// Each body's force (gravity included), torque and rolling resistance from its elements'
-/// sums, in a fixed order; the second-element sums are zeroed for the next step.
-void gather(ParticleSystem& ps, ContactSums& sums, const NeighborList& neighbors, const Vec3& gravity);
+/// sums, in a fixed order, into its first element's own sums (body_force); the
+/// second-element sums are zeroed for the next step.
+void gather(const ParticleSystem& ps, ContactSums& sums, const NeighborList& neighbors, const Vec3& gravity);
+/// Body b's total force of the last step [N], torque about its centre of mass [N m] and CDT
+/// rolling resistance [N m], as the gather left them (until the next contact stage). The
+/// steps read them directly; between steps, Simulation::body_force gives zero for a body
+/// added since the last step (whose element has no sums yet).
+inline const Vec3& body_force(const ParticleSystem& ps, const ContactSums& sums, std::size_t b) {
+  return sums.element_force[ps.first_sphere[b]];
+}
+inline const Vec3& body_torque(const ParticleSystem& ps, const ContactSums& sums, std::size_t b) {
+  return sums.element_torque[ps.first_sphere[b]];
+}
+inline double body_rolling_resistance(const ParticleSystem& ps, const ContactSums& sums, std::size_t b) {
+  return sums.element_cdt[ps.first_sphere[b]];
+}
+/// Whether body b has sums (it existed at the last step's start).
+inline bool has_sums(const ParticleSystem& ps, const ContactSums& sums, std::size_t b) {
+  return ps.first_sphere[b] < sums.element_force.size();
+}
+/// The elements' own sums (and with them the bodies' totals) reordered as the elements were
+/// (ParticleSystem::permute's sphere order: new index -> old), so that the totals follow
+/// their bodies.
+void permute_body_sums(ContactSums& sums, std::span<const std::uint32_t> sphere_order);
 /// The unbalanced force ratio of the last step [-] (Simulation::unbalanced_force_ratio).
-double unbalanced_force_ratio(const ParticleSystem& ps, const StepDiagnostics& d);
+double unbalanced_force_ratio(const ParticleSystem& ps, const ContactSums& sums, const StepDiagnostics& d);
 
 // --- integrate (integrate_stage.cpp) --------------------------------------------------------
-/// Velocities and angular momenta over dt [s] from the forces and torques; the constant
-/// directional rolling torque is capped so that it can stop a spin but never reverse it.
-void kick(ParticleSystem& ps, double dt);
+/// Velocities and angular momenta over dt [s] from the bodies' forces and torques (body_force);
+/// the constant directional rolling torque is capped so that it can stop a spin but never
+/// reverse it.
+void kick(ParticleSystem& ps, const ContactSums& sums, double dt);
 /// Positions and orientations over dt [s], the elements placed and their displacement since
-/// the last build measured (into moved2 [m2]); returns whether a build is due.
-Displacements drift(ParticleSystem& ps, const NeighborList& neighbors, std::vector<double>& moved2, double dt);
+/// the last build measured; returns whether a build is due.
+Displacements drift(ParticleSystem& ps, const NeighborList& neighbors, double dt);
 
 // --- parts (part_stage.cpp) -----------------------------------------------------------------
 /// A part's faces, bounds and broad phase; throws InputError for a bad shape.

@@ -36,7 +36,8 @@ struct PartGeometry {
 /// Where the contact stage leaves its forces for the gather: per element its own sums (over
 /// its pairs as first element and its parts), and its shares as second element: where one
 /// thread computes all of an element's pairs as second, that element's sum of them, else one
-/// slot per such pair, which the gather sums.
+/// slot per such pair, which the gather sums. The gather leaves each body's totals in its
+/// first element's own sums (body_force in stages.hpp).
 struct ContactSums {
   // slots: the reaction on a second element that is not summed directly, one per pair it is
   // second of (scratch of one step: written for the touching pairs, read for those alone)
@@ -47,9 +48,9 @@ struct ContactSums {
                                           ///< as second in pairs_as_second order (none where second_direct)
   std::vector<std::uint8_t> pair_active;  ///< [p]: 1 while the pair touches (or may: a fresh list)
   std::size_t active_build = 0;           ///< neighbour-list build the flags belong to
-  // per element: its own sums
+  // per element: its own sums; after the gather, a body's first element holds the body's totals
   std::vector<Vec3> element_force, element_torque;  ///< [N], [N m]
-  std::vector<double> element_cdt;                  ///< [N m]
+  std::vector<double> element_cdt;                  ///< CDT rolling resistance [N m]
   // per element: the sum of its shares as second element, in pair order, kept by the contact
   // stage where second_direct (else summed from the pair slots by the gather); zero between steps
   std::vector<Vec3> second_force, second_torque;
@@ -116,7 +117,6 @@ struct World {
   PairCoefficientTable coefficients;  ///< over species: particle types, then parts
   ContactSums sums;
   PartCandidates candidates;
-  std::vector<double> element_moved2;  ///< squared displacement of each element since the build [m2]
   SkinControl skin;
   StepDiagnostics diagnostics;
   Configuration configured;

@@ -22,6 +22,7 @@ void apply(std::vector<T>& v, std::span<const std::uint32_t> order) {
 std::uint32_t ParticleSystem::add_type(ParticleType type) {
   validate(type.material);
   const Vec3 moments = type.shape.principal_inertia(type.material.density);
+  type_mass_.push_back(type.mass());
   type_inertia_.push_back(moments);
   type_inverse_inertia_.push_back({1.0 / moments.x, 1.0 / moments.y, 1.0 / moments.z});
   type_first_offset_.push_back(static_cast<std::uint32_t>(type_offsets_.size()));
@@ -40,10 +41,6 @@ std::uint32_t ParticleSystem::add(std::uint32_t type, const BodyState& s) {
   orientation.push_back(normalized(s.orientation));
   velocity.push_back(s.velocity);
   angular_velocity.push_back(s.angular_velocity);
-  force.push_back({});
-  torque.push_back({});
-  rolling_resistance.push_back(0.0);
-  mass.push_back(t.mass());
   angular_momentum.push_back(spin_momentum(b));
   first_sphere.push_back(static_cast<std::uint32_t>(spheres()));
   sphere_count.push_back(static_cast<std::uint32_t>(t.shape.spheres.size()));
@@ -73,10 +70,8 @@ std::vector<std::uint32_t> ParticleSystem::permute(std::span<const std::uint32_t
     for (std::uint32_t k = 0; k < sphere_count[ob]; ++k) sphere_order.push_back(first_sphere[ob] + k);
   }
   for (auto* v : {&body_id, &body_type, &sphere_count}) apply(*v, order);
-  for (auto* v : {&position, &velocity, &angular_velocity, &angular_momentum, &force, &torque}) apply(*v, order);
+  for (auto* v : {&position, &velocity, &angular_velocity, &angular_momentum}) apply(*v, order);
   apply(orientation, order);
-  apply(mass, order);
-  apply(rolling_resistance, order);
   first_sphere = std::move(new_first);
   for (auto* v : {&sphere_id, &species}) apply(*v, sphere_order);
   apply(sphere_position, sphere_order);
@@ -102,7 +97,7 @@ Vec3 ParticleSystem::spin_momentum(std::size_t b) const {
 
 double ParticleSystem::kinetic_energy() const {
   double e = 0.0;
-  for (std::size_t b = 0; b < bodies(); ++b) e += 0.5 * mass[b] * norm2(velocity[b]) + rotational_energy(b);
+  for (std::size_t b = 0; b < bodies(); ++b) e += 0.5 * mass(b) * norm2(velocity[b]) + rotational_energy(b);
   return e;
 }
 
@@ -117,10 +112,7 @@ void ParticleSystem::save(io::BinaryWriter& out) const {
   out.put(velocity);
   out.put(angular_velocity);
   out.put(angular_momentum);
-  out.put(force);
-  out.put(torque);
-  out.put(rolling_resistance);
-  out.put(mass);
+  out.put(type_mass_);  // (for the check on load: the bodies' masses are their types')
   out.put(first_sphere);
   out.put(sphere_count);
   out.put(sphere_id);
@@ -130,7 +122,7 @@ void ParticleSystem::save(io::BinaryWriter& out) const {
   out.put(sphere_position);
 }
 
-void ParticleSystem::load(io::BinaryReader& in, std::uint32_t version) {
+ParticleSystem::SavedForces ParticleSystem::load(io::BinaryReader& in, std::uint32_t version) {
   if (in.get<std::uint64_t>() != types_.size()) {
     throw InputError("the checkpoint has another number of particle types than the scenario");
   }
@@ -143,10 +135,10 @@ void ParticleSystem::load(io::BinaryReader& in, std::uint32_t version) {
   in.get(velocity);
   in.get(angular_velocity);
   in.get(angular_momentum);
-  in.get(force);
-  in.get(torque);
-  in.get(rolling_resistance);
-  in.get(mass);
+  SavedForces saved;
+  std::vector<double> masses;  // versions 1 and 2: per body; 3: per type
+  if (version < 3) in.get(saved.force), in.get(saved.torque), in.get(saved.rolling_resistance);
+  in.get(masses);
   std::vector<Vec3> moments, inverse_moments, centres;  // (version 1: per body and element)
   if (version == 1) in.get(moments), in.get(inverse_moments);
   in.get(first_sphere);
@@ -160,11 +152,17 @@ void ParticleSystem::load(io::BinaryReader& in, std::uint32_t version) {
   // A damaged file must not index out of bounds later.
   const std::size_t nb = body_id.size(), ns = sphere_id.size();
   bool ok = true;
-  for (const std::size_t n : {body_type.size(), position.size(), orientation.size(), velocity.size(),
-                              angular_velocity.size(), angular_momentum.size(), force.size(), torque.size(),
-                              rolling_resistance.size(), mass.size(), first_sphere.size(), sphere_count.size()}) {
+  for (const std::size_t n :
+       {body_type.size(), position.size(), orientation.size(), velocity.size(), angular_velocity.size(),
+        angular_momentum.size(), first_sphere.size(), sphere_count.size()}) {
     ok = ok && n == nb;
   }
+  if (version < 3) {
+    for (const std::size_t n : {saved.force.size(), saved.torque.size(), saved.rolling_resistance.size()}) {
+      ok = ok && n == nb;
+    }
+  }
+  ok = ok && masses.size() == (version < 3 ? nb : types_.size());
   for (const std::size_t n : {owner.size(), species.size(), radius.size(), sphere_position.size()}) ok = ok && n == ns;
   for (std::size_t b = 0; ok && b < nb; ++b) {
     ok = body_type[b] < types_.size() && std::size_t{first_sphere[b]} + sphere_count[b] <= ns &&
@@ -172,16 +170,22 @@ void ParticleSystem::load(io::BinaryReader& in, std::uint32_t version) {
   }
   for (std::size_t s = 0; ok && s < ns; ++s) ok = owner[s] < nb && species[s] == body_type[owner[s]];
   if (!ok) throw InputError("the checkpoint's particles are inconsistent (a damaged file?)");
-  check_type_shapes(version == 1, moments, inverse_moments, centres);
+  if (version >= 3) {  // per type: per body, for the check
+    std::vector<double> by_body(nb);
+    for (std::size_t b = 0; b < nb; ++b) by_body[b] = masses[body_type[b]];
+    masses = std::move(by_body);
+  }
+  check_type_shapes(masses, version == 1, moments, inverse_moments, centres);
+  return saved;
 }
 
-void ParticleSystem::check_type_shapes(bool with_moments, std::span<const Vec3> moments,
+void ParticleSystem::check_type_shapes(std::span<const double> masses, bool with_moments, std::span<const Vec3> moments,
                                        std::span<const Vec3> inverse_moments, std::span<const Vec3> centres) const {
   bool same = !with_moments ||
               (moments.size() == bodies() && inverse_moments.size() == bodies() && centres.size() == spheres());
   for (std::size_t b = 0; same && b < bodies(); ++b) {
     const ParticleType& t = types_[body_type[b]];
-    same = mass[b] == t.mass();
+    same = masses[b] == t.mass();
     for (std::uint32_t k = 0; same && k < sphere_count[b]; ++k)
       same = radius[first_sphere[b] + k] == t.shape.spheres[k].radius;
     same = same &&

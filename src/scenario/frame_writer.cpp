@@ -70,7 +70,7 @@ VtuPiece particle_piece(const Simulation& sim, const FrameOptions& o, const Touc
     type.values.push_back(ps.body_type[b]);
     const Quat& q = ps.orientation[b];
     orientation.values.insert(orientation.values.end(), {q.w, q.x, q.y, q.z});
-    const Vec3 &w = ps.angular_velocity[b], &f = ps.force[b];
+    const Vec3 &w = ps.angular_velocity[b], &f = sim.body_force(b);
     if (o.angular_velocity) spin.values.insert(spin.values.end(), {w.x, w.y, w.z});
     if (o.force) force.values.insert(force.values.end(), {f.x, f.y, f.z});
   }

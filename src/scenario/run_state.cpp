@@ -46,7 +46,7 @@ std::vector<double> RunState::global_values() const {
   std::vector<double> v;
   v.reserve(names.size());
   double potential = 0.0, created = 0.0, removed = 0.0;
-  for (std::size_t b = 0; b < ps.bodies(); ++b) potential -= ps.mass[b] * dot(sc.settings.gravity, ps.position[b]);
+  for (std::size_t b = 0; b < ps.bodies(); ++b) potential -= ps.mass(b) * dot(sc.settings.gravity, ps.position[b]);
   for (const auto& f : factories) created += f.report().total_mass;
   for (const auto& s : sinks) {
     for (const double m : s.mass) removed += m;

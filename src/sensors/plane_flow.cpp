@@ -12,7 +12,7 @@ void PlaneFlow::update(const ParticleSystem& ps, double t) {
     const std::uint32_t id = ps.body_id[b];
     if (id >= side_.size()) side_.resize(id + 1, 0);
     const std::int8_t s = dot(ps.position[b] - point_, normal_) >= 0.0 ? 1 : -1;
-    if (side_[id] != 0 && side_[id] != s) mass_ += s * ps.mass[b];
+    if (side_[id] != 0 && side_[id] != s) mass_ += s * ps.mass(b);
     side_[id] = s;
   }
   samples_.add(t, mass_, window_);

@@ -20,9 +20,9 @@ RegionReading read_region(const Simulation& sim, const Region& region) {
     if (region.contains(ps.position[b])) {
       is_inside[b] = 1;
       ++out.count;
-      out.mass += ps.mass[b];
-      out.mass_fraction[ps.body_type[b]] += ps.mass[b];
-      solid += ps.mass[b] / type.material.density;
+      out.mass += ps.mass(b);
+      out.mass_fraction[ps.body_type[b]] += ps.mass(b);
+      solid += ps.mass(b) / type.material.density;
     }
     // The share of the body inside, by its elements' volumes: only bodies near the region.
     const std::uint32_t s0 = ps.first_sphere[b], n = ps.sphere_count[b];
@@ -37,7 +37,7 @@ RegionReading read_region(const Simulation& sim, const Region& region) {
       }
       in += region.sphere_volume_inside(x, r);
     }
-    exact_mass += ps.mass[b] * in / all;
+    exact_mass += ps.mass(b) * in / all;
   }
   for (double& f : out.mass_fraction) f = out.mass > 0.0 ? f / out.mass : 0.0;
   out.bulk_density = out.mass / volume;

@@ -26,7 +26,7 @@ struct Totals {
 Totals totals(const ParticleSystem& p) {
   Totals t;
   for (std::size_t b = 0; b < p.bodies(); ++b) {
-    const Vec3 m_v = p.mass[b] * p.velocity[b];
+    const Vec3 m_v = p.mass(b) * p.velocity[b];
     t.momentum += m_v;
     t.angular_momentum += cross(p.position[b], m_v) + p.angular_momentum[b];
     t.momentum_scale += norm(m_v);

@@ -157,7 +157,7 @@ TEST(Sinks, RemoveAndCountByTypeWhileTheRestKeepsItsContactHistory) {
   std::set<std::uint32_t> removed;
   for (std::size_t b = 0; b < sim.particles().bodies(); ++b) {
     if (!sinks[0].region.contains(sim.particles().position[b])) continue;
-    ++expected, expected_mass += sim.particles().mass[b];
+    ++expected, expected_mass += sim.particles().mass(b);
     removed.insert(sim.particles().sphere_id[sim.particles().first_sphere[b]]);
   }
   ASSERT_GT(expected, 5u);
@@ -181,7 +181,7 @@ TEST(Sinks, RemoveAndCountByTypeWhileTheRestKeepsItsContactHistory) {
   EXPECT_EQ(sim.particles().bodies(), 300 - expected);
   // a particle thrown out of the domain is lost
   sim.particles().position[0] = {0, 0, 1.0};
-  const double thrown = sim.particles().mass[0];
+  const double thrown = sim.particles().mass(0);
   apply_sinks(sim, sinks, domain, lost);
   EXPECT_EQ(lost.count.at(0), 1u);
   EXPECT_EQ(lost.total_count(), 1u);

@@ -1,7 +1,7 @@
 // The particle store: what a type's bodies share (moments, element centres) is kept once per
-// type and follows each body through a reordering; checkpoints round-trip, version 1 (with
-// per-body moments and per-element centres) still loads, and a checkpoint whose particles do
-// not match the scenario's types is refused.
+// type and follows each body through a reordering; checkpoints round-trip, versions 1 (with
+// per-body moments and per-element centres) and 2 (with per-body masses and last forces)
+// still load, and a checkpoint whose particles do not match the scenario's types is refused.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -38,27 +38,48 @@ ParticleSystem mixed(double clump_density = 1373.0) {
   return ps;
 }
 
-// The checkpoint bytes of version 1: the same fields, with each body's moments and inverse
-// moments (`moments`, the inverses derived) after the masses and each element's centre after
-// the species.
-std::string version_1_bytes(const ParticleSystem& ps, const std::vector<Vec3>& moments) {
-  io::BinaryWriter v2;
-  ps.save(v2);
-  io::BinaryReader head(v2.bytes(), "version 2");
+// The last forces that checkpoints of versions 1 and 2 held per body (made up).
+ParticleSystem::SavedForces made_up_forces(std::size_t bodies) {
+  ParticleSystem::SavedForces f;
+  for (std::size_t b = 0; b < bodies; ++b) {
+    const auto x = static_cast<double>(b);
+    f.force.push_back({x, 2.0 * x, -x});
+    f.torque.push_back({-x, 0.5, x});
+    f.rolling_resistance.push_back(0.1 * x);
+  }
+  return f;
+}
+
+// The checkpoint bytes of version 2, or of version 1 (with each body's moments `moments`, and
+// their inverses, after the masses and each element's centre after the species): each body's
+// last forces (made_up_forces) and mass after its angular momentum, not its type's masses.
+std::string old_version_bytes(const ParticleSystem& ps, int version, const std::vector<Vec3>& moments = {}) {
+  io::BinaryWriter v3;
+  ps.save(v3);
+  io::BinaryReader head(v3.bytes(), "version 3");
   io::BinaryWriter v;
   v.put(head.get<std::uint64_t>());  // the type count and the next ids
   v.put(head.get<std::uint32_t>());
   v.put(head.get<std::uint32_t>());
   v.put(ps.body_id), v.put(ps.body_type), v.put(ps.position), v.put(ps.orientation), v.put(ps.velocity);
-  v.put(ps.angular_velocity), v.put(ps.angular_momentum), v.put(ps.force), v.put(ps.torque);
-  v.put(ps.rolling_resistance), v.put(ps.mass);
-  std::vector<Vec3> inverse, centres;
-  for (const Vec3& i : moments) inverse.push_back({1.0 / i.x, 1.0 / i.y, 1.0 / i.z});
-  v.put(moments), v.put(inverse);
+  v.put(ps.angular_velocity), v.put(ps.angular_momentum);
+  const ParticleSystem::SavedForces f = made_up_forces(ps.bodies());
+  v.put(f.force), v.put(f.torque), v.put(f.rolling_resistance);
+  std::vector<double> masses;
+  for (std::size_t b = 0; b < ps.bodies(); ++b) masses.push_back(ps.mass(b));
+  v.put(masses);
+  if (version == 1) {
+    std::vector<Vec3> inverse;
+    for (const Vec3& i : moments) inverse.push_back({1.0 / i.x, 1.0 / i.y, 1.0 / i.z});
+    v.put(moments), v.put(inverse);
+  }
   v.put(ps.first_sphere), v.put(ps.sphere_count), v.put(ps.sphere_id), v.put(ps.owner), v.put(ps.species);
-  for (std::size_t b = 0; b < ps.bodies(); ++b)
-    centres.insert(centres.end(), ps.offsets(b).begin(), ps.offsets(b).end());
-  v.put(centres);
+  if (version == 1) {
+    std::vector<Vec3> centres;
+    for (std::size_t b = 0; b < ps.bodies(); ++b)
+      centres.insert(centres.end(), ps.offsets(b).begin(), ps.offsets(b).end());
+    v.put(centres);
+  }
   v.put(ps.radius), v.put(ps.sphere_position);
   return v.bytes();
 }
@@ -74,7 +95,7 @@ void expect_same_state(const ParticleSystem& a, const ParticleSystem& b) {
   EXPECT_EQ(a.body_type, b.body_type);
   EXPECT_EQ(a.position, b.position);
   EXPECT_EQ(a.angular_momentum, b.angular_momentum);
-  EXPECT_EQ(a.mass, b.mass);
+  for (std::size_t k = 0; k < a.bodies() && k < b.bodies(); ++k) EXPECT_EQ(a.mass(k), b.mass(k));
   EXPECT_EQ(a.first_sphere, b.first_sphere);
   EXPECT_EQ(a.species, b.species);
   EXPECT_EQ(a.sphere_position, b.sphere_position);
@@ -108,33 +129,41 @@ TEST(ParticleSystem, BodiesShareTheirTypesMomentsAndCentres) {
   EXPECT_EQ(ps.offsets(0).size(), clump.spheres.size());
 }
 
-TEST(ParticleSystem, CheckpointsOfBothVersionsLoad) {
+void expect_forces(const ParticleSystem::SavedForces& a, const ParticleSystem::SavedForces& b) {
+  EXPECT_EQ(a.force, b.force);
+  EXPECT_EQ(a.torque, b.torque);
+  EXPECT_EQ(a.rolling_resistance, b.rolling_resistance);
+}
+
+TEST(ParticleSystem, CheckpointsOfEveryVersionLoad) {
   const ParticleSystem ps = mixed();
   io::BinaryWriter out;
   ps.save(out);
   ParticleSystem back = mixed();
   back.permute(std::vector<std::uint32_t>{3, 1});  // (loading replaces every body)
-  io::BinaryReader in(out.bytes(), "version 2");
-  back.load(in, 2);
+  io::BinaryReader in(out.bytes(), "version 3");
+  expect_forces(back.load(in, 3), {});  // (the engine keeps them with its contact sums)
   EXPECT_TRUE(in.done());
   expect_same_state(back, ps);
 
-  const std::string v1 = version_1_bytes(ps, moments_of(ps));
-  ParticleSystem old = mixed();
-  io::BinaryReader in1(v1, "version 1");
-  old.load(in1, 1);
-  EXPECT_TRUE(in1.done());
-  expect_same_state(old, ps);
+  for (const int version : {1, 2}) {
+    const std::string bytes = old_version_bytes(ps, version, moments_of(ps));
+    ParticleSystem old = mixed();
+    io::BinaryReader in_old(bytes, "version " + std::to_string(version));
+    expect_forces(old.load(in_old, static_cast<std::uint32_t>(version)), made_up_forces(ps.bodies()));
+    EXPECT_TRUE(in_old.done());
+    expect_same_state(old, ps);
+  }
 }
 
-// A version-1 checkpoint whose bodies had other moments, or one of either version whose
+// A version-1 checkpoint whose bodies had other moments, or one of version 2 or 3 whose
 // bodies have another mass (a scenario whose density changed since), is refused by name.
 TEST(ParticleSystem, ACheckpointOfOtherShapesIsRefused) {
   const ParticleSystem ps = mixed();
   std::vector<Vec3> moments = moments_of(ps);
   moments[4].y *= 1.0 + 1e-12;
   ParticleSystem old = mixed();
-  const std::string v1 = version_1_bytes(ps, moments);  // (the reader views it)
+  const std::string v1 = old_version_bytes(ps, 1, moments);  // (the reader views it)
   io::BinaryReader in1(v1, "version 1");
   try {
     old.load(in1, 1);
@@ -145,8 +174,12 @@ TEST(ParticleSystem, ACheckpointOfOtherShapesIsRefused) {
   io::BinaryWriter out;
   ps.save(out);
   ParticleSystem denser = mixed(1400.0);
-  io::BinaryReader in(out.bytes(), "version 2");
-  EXPECT_THROW(denser.load(in, 2), InputError);
+  io::BinaryReader in(out.bytes(), "version 3");
+  EXPECT_THROW(denser.load(in, 3), InputError);
+  const std::string v2 = old_version_bytes(ps, 2);
+  ParticleSystem denser_too = mixed(1400.0);
+  io::BinaryReader in2(v2, "version 2");
+  EXPECT_THROW(denser_too.load(in2, 2), InputError);
 }
 
 }  // namespace

@@ -131,6 +131,11 @@ class Simulation {
   /// Yade defines it. It falls towards 0 as a packing comes to static equilibrium (about 1e-4
   /// is quasi-static, docs/wheat.md); 1 when nothing touches while a force acts, 0 with no particles.
   double unbalanced_force_ratio() const;
+  /// Body b's total force of the last step, gravity included [N] (zero before the first step
+  /// and for a body added since).
+  const Vec3& body_force(std::size_t b) const;
+  /// Its torque about the centre of mass, world frame [N m].
+  const Vec3& body_torque(std::size_t b) const;
   /// Number of sphere-sphere contacts (overlap > 0) in the last step.
   std::size_t contacts() const;
   const NeighborList& neighbors() const;

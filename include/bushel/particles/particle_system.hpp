@@ -64,7 +64,12 @@ class ParticleSystem {
   }
 
   // What every body of a type shares is kept once per type: a lone sphere's store is its
-  // motion, its mass and its element.
+  // motion and its element. (A body's force and torque of the last step live with the
+  // engine's contact sums: Simulation::body_force.)
+  /// Mass of body b [kg].
+  double mass(std::size_t b) const { return type_mass_[body_type[b]]; }
+  /// Masses per type [kg] (index: body_type, or an element's species).
+  std::span<const double> type_mass() const { return type_mass_; }
   /// Principal moments of body b [kg m2].
   const Vec3& inertia(std::size_t b) const { return type_inertia_[body_type[b]]; }
   /// Their inverses [1/(kg m2)], so the step multiplies.
@@ -82,12 +87,20 @@ class ParticleSystem {
   /// Returns the sphere permutation applied (new sphere index -> old sphere index).
   std::vector<std::uint32_t> permute(std::span<const std::uint32_t> order);
 
+  /// What a checkpoint section of version 1 or 2 also held per body, which version 3 leaves to
+  /// the engine's contact sums: the last step's total force [N], torque [N m] and CDT rolling
+  /// resistance [N m].
+  struct SavedForces {
+    std::vector<Vec3> force, torque;
+    std::vector<double> rolling_resistance;
+  };
   /// Every body and element (not the types), for a checkpoint; `load` restores them exactly
   /// into a system with the same types (throws InputError otherwise).
   void save(io::BinaryWriter& out) const;
   /// `version` of the section: version 1 also held each body's moments and each element's
-  /// centre. Masses, radii (and those) must be the types' (throws InputError otherwise).
-  void load(io::BinaryReader& in, std::uint32_t version);
+  /// centre, versions 1 and 2 each body's mass and last forces (returned; empty for version
+  /// 3). Masses, radii (and those) must be the types' (throws InputError otherwise).
+  SavedForces load(io::BinaryReader& in, std::uint32_t version);
 
   /// Translational plus rotational kinetic energy [J].
   double kinetic_energy() const;
@@ -104,10 +117,6 @@ class ParticleSystem {
   std::vector<Vec3> velocity;               ///< [m/s]
   std::vector<Vec3> angular_velocity;       ///< world frame [rad/s]; derived from angular_momentum each step
   std::vector<Vec3> angular_momentum;       ///< spin angular momentum, world frame [kg m2/s]: the rotational state
-  std::vector<Vec3> force;                  ///< total force of the last step [N]
-  std::vector<Vec3> torque;                 ///< total torque about the centre of mass, world [N m]
-  std::vector<double> rolling_resistance;   ///< CDT rolling torque magnitude of the last step [N m]
-  std::vector<double> mass;                 ///< [kg]
   std::vector<std::uint32_t> first_sphere;  ///< index of the body's first element
   std::vector<std::uint32_t> sphere_count;  ///< number of elements
 
@@ -122,10 +131,11 @@ class ParticleSystem {
   // The loaded bodies' masses and elements' radii against their types' (a scenario whose
   // types changed since the checkpoint), and `with_moments` (version 1) the saved moments and
   // centres too.
-  void check_type_shapes(bool with_moments, std::span<const Vec3> moments, std::span<const Vec3> inverse_moments,
-                         std::span<const Vec3> centres) const;
+  void check_type_shapes(std::span<const double> masses, bool with_moments, std::span<const Vec3> moments,
+                         std::span<const Vec3> inverse_moments, std::span<const Vec3> centres) const;
 
   std::vector<ParticleType> types_;
+  std::vector<double> type_mass_;                          // per type [kg]
   std::vector<Vec3> type_inertia_, type_inverse_inertia_;  // per type [kg m2], [1/(kg m2)]
   std::vector<Vec3> type_offsets_;                         // the types' element centres, type by type [m]
   std::vector<std::uint32_t> type_first_offset_;           // a type's first in type_offsets_
