@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <span>
@@ -470,20 +471,13 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
   return r;
 }
 
-// The chunks [first, last) that thread `me` of a team of `team` handles: contiguous blocks
-// of nearly equal size, in order.
-std::pair<std::size_t, std::size_t> chunks_of(std::size_t n_chunks, int team, int me) {
-  const auto t = static_cast<std::size_t>(team), m = static_cast<std::size_t>(me);
-  return {n_chunks * m / t, n_chunks * (m + 1) / t};
-}
-
 // An element's shares as second element may be summed by the contact stage itself when one
 // thread computes all its pairs as second: that thread meets them in pair order.
 void mark_direct_seconds(ContactSums& sums, const NeighborList& neighbors, std::size_t n_s, int team) {
-  const std::size_t n_chunks = sums.chunk_start.size() - 1;
+  const auto split = sums.shares.bounds();
   std::vector<int> thread_of(n_s, 0);
   for (int t = 0; t < team; ++t) {
-    const auto [c0, c1] = chunks_of(n_chunks, team, t);
+    const auto c0 = split[static_cast<std::size_t>(t)], c1 = split[static_cast<std::size_t>(t) + 1];
     std::fill(thread_of.begin() + sums.chunk_start[c0], thread_of.begin() + sums.chunk_start[c1], t);
   }
   const auto first = neighbors.firsts();
@@ -580,6 +574,7 @@ void contacts(World& w) {
   const std::size_t n_chunks = sums.chunk_start.size() - 1;
   std::vector<double>& force_sum = w.diagnostics.chunk_force_sum;
   force_sum.resize(n_chunks);
+  int team_used = 1;
 #pragma omp parallel reduction(max : max_ratio) reduction(+ : touching) if (static_cast <std::ptrdiff_t>( \
                                                                                 w.particles.spheres()) > \
                                                                                 parallel_threshold)
@@ -588,18 +583,24 @@ void contacts(World& w) {
 #ifdef BUSHEL_HAVE_OPENMP
     team = omp_get_num_threads(), me = omp_get_thread_num();
 #endif
-    // Each thread takes a fixed block of chunks (chunks_of), which mark_direct_seconds knows.
+    // Each thread takes a block of chunks (ThreadShares), which mark_direct_seconds knows.
 #pragma omp single
-    if (sums.direct_build != w.neighbors.builds() || sums.direct_team != team ||
-        sums.slots_of.size() != w.particles.spheres() + 1) {
-      mark_direct_seconds(sums, w.neighbors, w.particles.spheres(), team);
+    {
+      const bool split = sums.shares.split(n_chunks, team);
+      if (split || sums.direct_build != w.neighbors.builds() || sums.direct_team != team ||
+          sums.slots_of.size() != w.particles.spheres() + 1) {
+        mark_direct_seconds(sums, w.neighbors, w.particles.spheres(), team);
+      }
+      team_used = team;
     }
     const ContactViews views = views_of(w);  // (after the slots are sized, which the single's barrier ensures)
     // Each thread's scratch, kept between steps: allocating and zeroing it every step cost
     // more than the L1 cache holds.
     thread_local std::unique_ptr<Workspace> work;
     if (!work) work = std::make_unique<Workspace>();
-    const auto [c0, c1] = chunks_of(n_chunks, team, me);
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t c0 = sums.shares.bounds()[static_cast<std::size_t>(me)];
+    const std::size_t c1 = sums.shares.bounds()[static_cast<std::size_t>(me) + 1];
     for (std::size_t c = c0; c < c1; ++c) {
       const std::uint32_t e0 = sums.chunk_start[c], e1 = sums.chunk_start[c + 1];
       const ChunkResult r =
@@ -608,7 +609,9 @@ void contacts(World& w) {
       touching += r.touching;
       force_sum[c] = r.force_sum;
     }
+    sums.shares.add_busy(me, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
+  if (team_used > 1) sums.shares.balance();
   StepDiagnostics& d = w.diagnostics;
   d.pair_force_sum = 0.0;  // (summed in chunk order: the same sum for any thread count)
   for (std::size_t c = 0; c < n_chunks; ++c) d.pair_force_sum += force_sum[c];

@@ -57,7 +57,7 @@ void gather(const ParticleSystem& ps, ContactSums& sums, const NeighborList& nei
   // zeroes again: no per-body arrays.
   const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
   const Vec3 g = gravity;  // (a copy: through the reference it is reloaded after every store)
-#pragma omp parallel for schedule(static) if (nb > parallel_threshold)
+#pragma omp parallel for schedule(static) if (parallel_work(ps))
   for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
     const auto b = static_cast<std::size_t>(sb);
     Vec3 f = ps.mass(b) * g, t;

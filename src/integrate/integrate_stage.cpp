@@ -21,7 +21,7 @@ bool is_isotropic(const Vec3& i) { return i.x == i.y && i.y == i.z; }
 
 void kick(ParticleSystem& ps, const ContactSums& sums, double dt) {
   const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
-#pragma omp parallel for schedule(static) if (nb > parallel_threshold)
+#pragma omp parallel for schedule(static) if (parallel_work(ps))
   for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
     const auto b = static_cast<std::size_t>(sb);
     const Vec3 &force = body_force(ps, sums, b), &torque = body_torque(ps, sums, b);
@@ -71,7 +71,7 @@ Displacements drift(ParticleSystem& ps, const NeighborList& neighbors, double dt
   const auto blocks = static_cast<std::ptrdiff_t>((nb + block - 1) / block);
   double excess = -std::numeric_limits<double>::infinity();  // the most an element has moved past its margin
                                                              // (NeighborList::excess2) [m2]
-#pragma omp parallel for schedule(static) reduction(max : excess) if (nb > parallel_threshold)
+#pragma omp parallel for schedule(static) reduction(max : excess) if (parallel_work(ps))
   for (std::ptrdiff_t k0 = 0; k0 < blocks; ++k0) {
     // The elements are measured against their margins in the neighbour list while at hand
     // (declared in the loop so that it updates this thread's copy of excess).

@@ -18,9 +18,16 @@
 #include <span>
 #include <vector>
 
+#include "bushel/core/parallel.hpp"
 #include "world.hpp"
 
 namespace bushel::engine {
+
+/// Whether a loop over the bodies runs in parallel: counted in elements, the work the bodies
+/// bring (a 5-sphere clump places five elements and turns), not in bodies.
+inline bool parallel_work(const ParticleSystem& ps) {
+  return static_cast<std::ptrdiff_t>(ps.spheres()) > parallel_threshold;
+}
 
 // --- neighbours (neighbor_stage.cpp) -------------------------------------------------------
 /// Rebuilds the neighbour list and the part candidates when an element or a part may have

@@ -17,6 +17,7 @@
 #include "bushel/geometry/face_grid.hpp"
 #include "bushel/geometry/part.hpp"
 #include "bushel/integrate/simulation.hpp"
+#include "bushel/integrate/thread_shares.hpp"
 #include "bushel/particles/particle_system.hpp"
 #include "team.hpp"
 
@@ -59,6 +60,7 @@ struct ContactSums {
   std::size_t direct_build = 0;            ///< neighbour-list build that second_direct and the slots are for
   int direct_team = 0;                     ///< and the team size (0: to be found again)
   std::vector<std::uint32_t> chunk_start;  ///< elements split into chunks: [chunk_start[k], chunk_start[k + 1])
+  ThreadShares shares;                     ///< which chunks each thread takes (not part of the state)
 };
 
 /// Sphere-part candidates: the spheres within the skin of a part's faces at the last build,

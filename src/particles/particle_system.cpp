@@ -56,7 +56,7 @@ std::uint32_t ParticleSystem::add(std::uint32_t type, const BodyState& s) {
 
 void ParticleSystem::update_sphere_positions() {
   const auto n = static_cast<std::ptrdiff_t>(bodies());
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
+#pragma omp parallel for schedule(static) if (static_cast<std::ptrdiff_t>(spheres()) > parallel_threshold)
   for (std::ptrdiff_t b = 0; b < n; ++b) place_elements(static_cast<std::size_t>(b), [](std::uint32_t, const Vec3&) {});
 }
 
