@@ -12,7 +12,8 @@ bool ThreadShares::split(std::size_t n_chunks, int team) {
     busy_.assign(t_n, 0.0);
     steps_ = 0;
   }
-  std::vector<std::uint32_t> bounds(t_n + 1, 0);
+  std::vector<std::uint32_t>& bounds = next_;  // (kept: no allocation per step)
+  bounds.assign(t_n + 1, 0);
   const auto n = static_cast<double>(n_chunks);
   double cumulative = 0.0;
   for (std::size_t t = 0; t + 1 < t_n; ++t) {
@@ -21,7 +22,7 @@ bool ThreadShares::split(std::size_t n_chunks, int team) {
   }
   bounds[t_n] = static_cast<std::uint32_t>(n_chunks);
   if (bounds == bounds_) return false;
-  bounds_ = std::move(bounds);
+  bounds_.swap(bounds);
   return true;
 }
 

@@ -36,8 +36,8 @@ class ThreadShares {
 
  private:
   std::vector<double> share_;
-  std::vector<std::uint32_t> bounds_;
-  std::vector<double> busy_;  // seconds per thread since the last balance
+  std::vector<std::uint32_t> bounds_, next_;  // next_: the split being made
+  std::vector<double> busy_;                  // seconds per thread since the last balance
   int steps_ = 0;
 };
 
