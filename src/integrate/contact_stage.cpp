@@ -136,11 +136,9 @@ struct ContactViews {
   std::span<const std::uint32_t> slots_of;
   const NeighborList* neighbors;
   // per element sums (ContactSums)
-  std::span<Vec3> element_force, element_torque;
-  std::span<double> element_cdt;
+  std::span<ElementSums> own;
   std::span<const std::uint8_t> second_direct;
-  std::span<Vec3> second_force, second_torque;
-  std::span<double> second_cdt;
+  std::span<ElementSums> second_sums;
   // sphere-part candidates [c] (PartCandidates) and the parts [w]
   std::span<const std::uint32_t> part_start, sphere_of_candidate, part_of_candidate, candidate_face_start,
       candidate_faces;
@@ -245,9 +243,7 @@ std::size_t slot_of(const ContactViews& v, std::size_t p, std::uint32_t j) {
     const double* hist = v.history + std::size_t{p} * static_cast<std::size_t>(v.h);
     pb.xi_x[k] = hist[0], pb.xi_y[k] = hist[1], pb.xi_z[k] = hist[2];
     // j's sums, which finish_pairs adds to after the batch is solved, miss the cache otherwise.
-    __builtin_prefetch(&v.second_force[j], 1);
-    __builtin_prefetch(&v.second_torque[j], 1);
-    __builtin_prefetch(&v.second_cdt[j], 1);
+    __builtin_prefetch(&v.second_sums[j], 1);
     // And j's body position, which set_offsets reads for clumps.
     __builtin_prefetch(&v.x_b[bj]);
     const std::uint32_t co = v.species[i] * ns + v.species[j];
@@ -302,14 +298,16 @@ template <class Rolling>
     const Vec3 f{pb.fx[k], pb.fy[k], pb.fz[k]};
     Vec3 t_i{pb.tix[k], pb.tiy[k], pb.tiz[k]}, t_j{pb.tjx[k], pb.tjy[k], pb.tjz[k]};
     if constexpr (Rolling::has_torque) t_i += roll.torque_i, t_j += roll.torque_j;
-    v.element_force[i] += f;
+    ElementSums& sums_i = v.own[i];
+    sums_i.force += f;
     r.force_sum += norm(f);
-    v.element_torque[i] += t_i;
-    v.element_cdt[i] += roll.cdt_i;
+    sums_i.torque += t_i;
+    sums_i.cdt += roll.cdt_i;
     if (v.second_direct[j]) {  // this thread has all of j's pairs as second: sum in pair order
-      v.second_force[j] -= f;
-      v.second_torque[j] += t_j;
-      v.second_cdt[j] += roll.cdt_j;
+      ElementSums& sums_j = v.second_sums[j];
+      sums_j.force -= f;
+      sums_j.torque += t_j;
+      sums_j.cdt += roll.cdt_j;
     } else {  // the gather sums j's slots in the same order
       const std::size_t slot = slot_of(v, p, j);
       v.pair_force[slot] = f;
@@ -442,9 +440,10 @@ template <class Rolling>
                                                spring);
     if constexpr (Rolling::history_size > 0) store3(e.history + 3, spring);
     const Vec3 f{b.fx[k], b.fy[k], b.fz[k]};
-    v.element_force[e.element] += f;
-    v.element_torque[e.element] += cross(e.arm_i, f) + roll.torque_i;
-    v.element_cdt[e.element] += roll.cdt_i;
+    ElementSums& sums = v.own[e.element];
+    sums.force += f;
+    sums.torque += cross(e.arm_i, f) + roll.torque_i;
+    sums.cdt += roll.cdt_i;
     v.part_reaction[2 * std::size_t{e.item}] -= f;
     v.part_reaction[2 * std::size_t{e.item} + 1] += cross(e.arm_j, -f) - roll.torque_i;
   }
@@ -458,9 +457,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
                           Workspace& work) {
   const ContactViews v = views;
   ChunkResult r;
-  std::fill(v.element_force.begin() + e0, v.element_force.begin() + e1, Vec3{});
-  std::fill(v.element_torque.begin() + e0, v.element_torque.begin() + e1, Vec3{});
-  std::fill(v.element_cdt.begin() + e0, v.element_cdt.begin() + e1, 0.0);
+  std::fill(v.own.begin() + e0, v.own.begin() + e1, ElementSums{});
   pair_contacts<Rolling>(v, p0, p1, work.pairs, r);
   PartLanes& lanes = work.parts;
   for (std::size_t cw = v.part_start[e0]; cw < v.part_start[e1]; ++cw) {
@@ -539,13 +536,9 @@ ContactViews views_of(World& w) {
           .pair_cdt_j = s.pair_cdt_j,
           .slots_of = s.slots_of,
           .neighbors = &w.neighbors,
-          .element_force = s.element_force,
-          .element_torque = s.element_torque,
-          .element_cdt = s.element_cdt,
+          .own = s.own,
           .second_direct = s.second_direct,
-          .second_force = s.second_force,
-          .second_torque = s.second_torque,
-          .second_cdt = s.second_cdt,
+          .second_sums = s.second,
           .part_start = c.start,
           .sphere_of_candidate = c.sphere,
           .part_of_candidate = c.part,

@@ -63,15 +63,15 @@ void gather(const ParticleSystem& ps, ContactSums& sums, const NeighborList& nei
     Vec3 f = ps.mass(b) * g, t;
     double cdt = 0.0;
     for (std::uint32_t s = ps.first_sphere[b]; s < ps.first_sphere[b] + ps.sphere_count[b]; ++s) {
-      f += sums.element_force[s];
-      t += sums.element_torque[s];
-      cdt += sums.element_cdt[s];
+      f += sums.own[s].force;
+      t += sums.own[s].torque;
+      cdt += sums.own[s].cdt;
       if (sums.second_direct[s]) {
-        f += sums.second_force[s];
-        t += sums.second_torque[s];
-        cdt += sums.second_cdt[s];
-        sums.second_force[s] = sums.second_torque[s] = Vec3{};
-        sums.second_cdt[s] = 0.0;
+        ElementSums& second = sums.second[s];
+        f += second.force;
+        t += second.torque;
+        cdt += second.cdt;
+        second = {};
         continue;
       }
       Vec3 f_second, t_second;
@@ -89,9 +89,7 @@ void gather(const ParticleSystem& ps, ContactSums& sums, const NeighborList& nei
       cdt += cdt_second;
     }
     const std::uint32_t s0 = ps.first_sphere[b];
-    sums.element_force[s0] = f;
-    sums.element_torque[s0] = t;
-    sums.element_cdt[s0] = cdt;
+    sums.own[s0] = {.force = f, .torque = t, .cdt = cdt};
   }
 }
 
@@ -109,9 +107,7 @@ void reorder(std::vector<T>& v, std::span<const std::uint32_t> order) {
 }  // namespace
 
 void permute_body_sums(ContactSums& sums, std::span<const std::uint32_t> sphere_order) {
-  reorder(sums.element_force, sphere_order);
-  reorder(sums.element_torque, sphere_order);
-  reorder(sums.element_cdt, sphere_order);
+  reorder(sums.own, sphere_order);
 }
 
 double unbalanced_force_ratio(const ParticleSystem& ps, const ContactSums& sums, const StepDiagnostics& d) {

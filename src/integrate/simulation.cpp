@@ -157,12 +157,8 @@ void Simulation::prepare_steps() {
   }
   const std::size_t n_s = w.particles.spheres();
   engine::ContactSums& s = w.sums;
-  s.element_force.resize(n_s);
-  s.element_torque.resize(n_s);
-  s.element_cdt.resize(n_s);
-  s.second_force.resize(n_s);
-  s.second_torque.resize(n_s);
-  s.second_cdt.resize(n_s);
+  s.own.resize(n_s);
+  s.second.resize(n_s);
   s.second_direct.resize(n_s);
   w.particles.update_sphere_positions();
   // Particles may have been added or moved from outside: their displacements are measured.

@@ -12,6 +12,26 @@
 namespace bushel {
 namespace {
 
+// Calls f on element sums as a checkpoint keeps them: three columns (force, torque, CDT), read
+// back into `sums` when it is not const.
+template <class S, class F>
+void each_sums_column(S& sums, F&& f) {
+  std::vector<Vec3> force(sums.size()), torque(sums.size());
+  std::vector<double> cdt(sums.size());
+  if constexpr (std::is_const_v<S>) {
+    for (std::size_t s = 0; s < sums.size(); ++s) force[s] = sums[s].force, torque[s] = sums[s].torque;
+    for (std::size_t s = 0; s < sums.size(); ++s) cdt[s] = sums[s].cdt;
+  }
+  f(force), f(torque), f(cdt);
+  if constexpr (!std::is_const_v<S>) {
+    if (torque.size() != force.size() || cdt.size() != force.size()) {
+      throw InputError("the checkpoint's contact sums do not fit together (a damaged file?)");
+    }
+    sums.assign(force.size(), {});
+    for (std::size_t s = 0; s < sums.size(); ++s) sums[s] = {.force = force[s], .torque = torque[s], .cdt = cdt[s]};
+  }
+}
+
 // Calls f on each member that save_state writes after the neighbour list, in file order: one
 // list for writing and reading (W is World or const World). `moved2`: where a version 1 or 2
 // section held each element's displacement since the build (found again from the neighbour
@@ -22,12 +42,8 @@ void each_saved_member(W& w, F&& f, std::vector<double>* moved2 = nullptr) {
   auto& s = w.sums;
   auto& c = w.candidates;
   f(s.pair_active);
-  f(s.element_force);
-  f(s.element_torque);
-  f(s.element_cdt);
-  f(s.second_force);
-  f(s.second_torque);
-  f(s.second_cdt);
+  each_sums_column(s.own, f);
+  each_sums_column(s.second, f);
   f(s.second_direct);
   f(s.chunk_start);
   f(c.start);
@@ -105,15 +121,12 @@ void get_member(io::BinaryReader& in, T& m) {
 void put_saved_forces(engine::World& w, const ParticleSystem::SavedForces& saved) {
   const ParticleSystem& ps = w.particles;
   if (saved.force.empty()) return;
-  if (w.sums.element_force.size() != ps.spheres() || w.sums.element_torque.size() != ps.spheres() ||
-      w.sums.element_cdt.size() != ps.spheres()) {
+  if (w.sums.own.size() != ps.spheres()) {
     throw InputError("the checkpoint's contact sums do not match its particles (a damaged file?)");
   }
   for (std::size_t b = 0; b < ps.bodies(); ++b) {
     const std::uint32_t s0 = ps.first_sphere[b];
-    w.sums.element_force[s0] = saved.force[b];
-    w.sums.element_torque[s0] = saved.torque[b];
-    w.sums.element_cdt[s0] = saved.rolling_resistance[b];
+    w.sums.own[s0] = {.force = saved.force[b], .torque = saved.torque[b], .cdt = saved.rolling_resistance[b]};
   }
 }
 

@@ -56,17 +56,17 @@ void gather(const ParticleSystem& ps, ContactSums& sums, const NeighborList& nei
 /// steps read them directly; between steps, Simulation::body_force gives zero for a body
 /// added since the last step (whose element has no sums yet).
 inline const Vec3& body_force(const ParticleSystem& ps, const ContactSums& sums, std::size_t b) {
-  return sums.element_force[ps.first_sphere[b]];
+  return sums.own[ps.first_sphere[b]].force;
 }
 inline const Vec3& body_torque(const ParticleSystem& ps, const ContactSums& sums, std::size_t b) {
-  return sums.element_torque[ps.first_sphere[b]];
+  return sums.own[ps.first_sphere[b]].torque;
 }
 inline double body_rolling_resistance(const ParticleSystem& ps, const ContactSums& sums, std::size_t b) {
-  return sums.element_cdt[ps.first_sphere[b]];
+  return sums.own[ps.first_sphere[b]].cdt;
 }
 /// Whether body b has sums (it existed at the last step's start).
 inline bool has_sums(const ParticleSystem& ps, const ContactSums& sums, std::size_t b) {
-  return ps.first_sphere[b] < sums.element_force.size();
+  return ps.first_sphere[b] < sums.own.size();
 }
 /// The elements' own sums (and with them the bodies' totals) reordered as the elements were
 /// (ParticleSystem::permute's sphere order: new index -> old), so that the totals follow

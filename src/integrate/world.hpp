@@ -34,6 +34,14 @@ struct PartGeometry {
   double moved = 0.0;  ///< bound on the displacement of any point since the last build [m]
 };
 
+/// An element's sums of forces, kept together: a pair's reaction goes to its second element,
+/// a scattered one, whose sums then take one or two cache lines instead of three.
+struct ElementSums {
+  Vec3 force;        ///< [N]
+  Vec3 torque;       ///< about its body's centre of mass [N m]
+  double cdt = 0.0;  ///< CDT rolling resistance [N m]
+};
+
 /// Where the contact stage leaves its forces for the gather: per element its own sums (over
 /// its pairs as first element and its parts), and its shares as second element: where one
 /// thread computes all of an element's pairs as second, that element's sum of them, else one
@@ -50,12 +58,10 @@ struct ContactSums {
   std::vector<std::uint8_t> pair_active;  ///< [p]: 1 while the pair touches (or may: a fresh list)
   std::size_t active_build = 0;           ///< neighbour-list build the flags belong to
   // per element: its own sums; after the gather, a body's first element holds the body's totals
-  std::vector<Vec3> element_force, element_torque;  ///< [N], [N m]
-  std::vector<double> element_cdt;                  ///< CDT rolling resistance [N m]
+  std::vector<ElementSums> own;
   // per element: the sum of its shares as second element, in pair order, kept by the contact
   // stage where second_direct (else summed from the pair slots by the gather); zero between steps
-  std::vector<Vec3> second_force, second_torque;
-  std::vector<double> second_cdt;
+  std::vector<ElementSums> second;
   std::vector<std::uint8_t> second_direct;
   std::size_t direct_build = 0;            ///< neighbour-list build that second_direct and the slots are for
   int direct_team = 0;                     ///< and the team size (0: to be found again)
