@@ -38,13 +38,17 @@ int main(int argc, char** argv) {
   auto& sim = scene.simulation;
   auto& ps = sim.particles();
   const char* state = std::getenv("BUSHEL_STATE");
-  // Per body, by stable id: position, orientation, velocity, angular velocity, angular momentum.
+  // Per body, by stable id: position, orientation, velocity, angular velocity, angular momentum
+  // (where the system keeps no orientation and momentum, their derived values; read and dropped).
   auto transfer = [&](std::fstream& stream, bool write) {
     std::vector<std::size_t> index(ps.bodies());
     for (std::size_t b = 0; b < ps.bodies(); ++b) index[ps.body_id[b]] = b;
     for (const std::size_t b : index) {
-      double* fields[] = {&ps.position[b].x, &ps.orientation[b].w, &ps.velocity[b].x, &ps.angular_velocity[b].x,
-                          &ps.angular_momentum[b].x};
+      bushel::Quat q = ps.orientation_of(b);
+      bushel::Vec3 l = ps.angular_momentum_of(b);
+      bushel::Quat& orientation = ps.keeps_rotation() ? ps.orientation[b] : q;
+      bushel::Vec3& momentum = ps.keeps_rotation() ? ps.angular_momentum[b] : l;
+      double* fields[] = {&ps.position[b].x, &orientation.w, &ps.velocity[b].x, &ps.angular_velocity[b].x, &momentum.x};
       const int sizes[] = {3, 4, 3, 3, 3};
       for (int f = 0; f < 5; ++f) {
         for (int k = 0; k < sizes[f]; ++k) {

@@ -39,7 +39,7 @@ void kick(ParticleSystem& ps, const ContactSums& sums, double dt) {
         if (along > 0.0) w -= std::min(rolling_resistance * dt * inv_inertia.x, along) * u;
       }
       ps.angular_velocity[b] = w;
-      ps.angular_momentum[b] = ps.inertia(b).x * w;
+      if (ps.keeps_rotation()) ps.angular_momentum[b] = ps.inertia(b).x * w;
       continue;
     }
     // One rotation matrix serves every frame change: momentum, spin direction and the new

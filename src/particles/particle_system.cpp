@@ -27,7 +27,14 @@ std::uint32_t ParticleSystem::add_type(ParticleType type) {
   type_inverse_inertia_.push_back({1.0 / moments.x, 1.0 / moments.y, 1.0 / moments.z});
   type_first_offset_.push_back(static_cast<std::uint32_t>(type_offsets_.size()));
   for (const auto& e : type.shape.spheres) type_offsets_.push_back(e.centre);
+  const bool clump = type.shape.spheres.size() > 1;
   types_.push_back(std::move(type));
+  if (clump && !keeps_rotation_) {  // the lone spheres so far: their derived rotation from now on kept
+    orientation.assign(bodies(), Quat{});
+    angular_momentum.resize(bodies());
+    for (std::size_t b = 0; b < bodies(); ++b) angular_momentum[b] = angular_momentum_of(b);
+    keeps_rotation_ = true;
+  }
   return static_cast<std::uint32_t>(types_.size() - 1);
 }
 
@@ -38,10 +45,13 @@ std::uint32_t ParticleSystem::add(std::uint32_t type, const BodyState& s) {
   body_id.push_back(next_body_id_++);
   body_type.push_back(type);
   position.push_back(s.position);
-  orientation.push_back(normalized(s.orientation));
+  const Quat q = normalized(s.orientation);
   velocity.push_back(s.velocity);
   angular_velocity.push_back(s.angular_velocity);
-  angular_momentum.push_back(spin_momentum(b));
+  if (keeps_rotation_) {
+    orientation.push_back(q);
+    angular_momentum.push_back(spin_momentum(b));
+  }
   first_sphere.push_back(static_cast<std::uint32_t>(spheres()));
   sphere_count.push_back(static_cast<std::uint32_t>(t.shape.spheres.size()));
   for (const auto& e : t.shape.spheres) {
@@ -49,14 +59,14 @@ std::uint32_t ParticleSystem::add(std::uint32_t type, const BodyState& s) {
     owner.push_back(b);
     species.push_back(type);
     radius.push_back(e.radius);
-    sphere_position.push_back(s.position + rotate(orientation.back(), e.centre));
+    sphere_position.push_back(s.position + rotate(q, e.centre));
   }
   return body_id.back();
 }
 
 void ParticleSystem::update_sphere_positions() {
   const auto n = static_cast<std::ptrdiff_t>(bodies());
-#pragma omp parallel for schedule(static) if (static_cast<std::ptrdiff_t>(spheres()) > parallel_threshold)
+#pragma omp parallel for schedule(static) if (static_cast <std::ptrdiff_t>(spheres()) > parallel_threshold)
   for (std::ptrdiff_t b = 0; b < n; ++b) place_elements(static_cast<std::size_t>(b), [](std::uint32_t, const Vec3&) {});
 }
 
@@ -70,8 +80,8 @@ std::vector<std::uint32_t> ParticleSystem::permute(std::span<const std::uint32_t
     for (std::uint32_t k = 0; k < sphere_count[ob]; ++k) sphere_order.push_back(first_sphere[ob] + k);
   }
   for (auto* v : {&body_id, &body_type, &sphere_count}) apply(*v, order);
-  for (auto* v : {&position, &velocity, &angular_velocity, &angular_momentum}) apply(*v, order);
-  apply(orientation, order);
+  for (auto* v : {&position, &velocity, &angular_velocity}) apply(*v, order);
+  if (keeps_rotation_) apply(angular_momentum, order), apply(orientation, order);
   first_sphere = std::move(new_first);
   for (auto* v : {&sphere_id, &species}) apply(*v, sphere_order);
   apply(sphere_position, sphere_order);
@@ -84,15 +94,16 @@ std::vector<std::uint32_t> ParticleSystem::permute(std::span<const std::uint32_t
 }
 
 double ParticleSystem::rotational_energy(std::size_t b) const {
-  const Vec3 w = rotate_inverse(orientation[b], angular_velocity[b]);  // body frame
+  const Vec3 w = rotate_inverse(orientation_of(b), angular_velocity[b]);  // body frame
   const Vec3& i = inertia(b);
   return 0.5 * (i.x * w.x * w.x + i.y * w.y * w.y + i.z * w.z * w.z);
 }
 
 Vec3 ParticleSystem::spin_momentum(std::size_t b) const {
-  const Vec3 w = rotate_inverse(orientation[b], angular_velocity[b]);
+  const Quat q = orientation_of(b);
+  const Vec3 w = rotate_inverse(q, angular_velocity[b]);
   const Vec3& i = inertia(b);
-  return rotate(orientation[b], Vec3{i.x * w.x, i.y * w.y, i.z * w.z});
+  return rotate(q, Vec3{i.x * w.x, i.y * w.y, i.z * w.z});
 }
 
 double ParticleSystem::kinetic_energy() const {
@@ -108,10 +119,14 @@ void ParticleSystem::save(io::BinaryWriter& out) const {
   out.put(body_id);
   out.put(body_type);
   out.put(position);
-  out.put(orientation);
+  // (where they are not kept, their derived values: the same section either way)
+  std::vector<Quat> q(keeps_rotation_ ? 0 : bodies());
+  std::vector<Vec3> l(keeps_rotation_ ? 0 : bodies());
+  for (std::size_t b = 0; b < l.size(); ++b) l[b] = angular_momentum_of(b);
+  out.put(keeps_rotation_ ? orientation : q);
   out.put(velocity);
   out.put(angular_velocity);
-  out.put(angular_momentum);
+  out.put(keeps_rotation_ ? angular_momentum : l);
   out.put(type_mass_);  // (for the check on load: the bodies' masses are their types')
   out.put(first_sphere);
   out.put(sphere_count);
@@ -170,6 +185,10 @@ ParticleSystem::SavedForces ParticleSystem::load(io::BinaryReader& in, std::uint
   }
   for (std::size_t s = 0; ok && s < ns; ++s) ok = owner[s] < nb && species[s] == body_type[owner[s]];
   if (!ok) throw InputError("the checkpoint's particles are inconsistent (a damaged file?)");
+  if (!keeps_rotation_) {  // (lone spheres only: derived)
+    std::vector<Quat>().swap(orientation);
+    std::vector<Vec3>().swap(angular_momentum);
+  }
   if (version >= 3) {  // per type: per body, for the check
     std::vector<double> by_body(nb);
     for (std::size_t b = 0; b < nb; ++b) by_body[b] = masses[body_type[b]];

@@ -68,7 +68,7 @@ VtuPiece particle_piece(const Simulation& sim, const FrameOptions& o, const Touc
     velocity.values.insert(velocity.values.end(), {v.x, v.y, v.z});
     body.values.push_back(ps.body_id[b]);
     type.values.push_back(ps.body_type[b]);
-    const Quat& q = ps.orientation[b];
+    const Quat q = ps.orientation_of(b);
     orientation.values.insert(orientation.values.end(), {q.w, q.x, q.y, q.z});
     const Vec3 &w = ps.angular_velocity[b], &f = sim.body_force(b);
     if (o.angular_velocity) spin.values.insert(spin.values.end(), {w.x, w.y, w.z});

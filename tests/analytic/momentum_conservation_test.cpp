@@ -28,9 +28,9 @@ Totals totals(const ParticleSystem& p) {
   for (std::size_t b = 0; b < p.bodies(); ++b) {
     const Vec3 m_v = p.mass(b) * p.velocity[b];
     t.momentum += m_v;
-    t.angular_momentum += cross(p.position[b], m_v) + p.angular_momentum[b];
+    t.angular_momentum += cross(p.position[b], m_v) + p.angular_momentum_of(b);
     t.momentum_scale += norm(m_v);
-    t.angular_scale += norm(p.position[b]) * norm(m_v) + norm(p.angular_momentum[b]);
+    t.angular_scale += norm(p.position[b]) * norm(m_v) + norm(p.angular_momentum_of(b));
   }
   return t;
 }

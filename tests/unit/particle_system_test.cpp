@@ -121,7 +121,7 @@ TEST(ParticleSystem, BodiesShareTheirTypesMomentsAndCentres) {
   ps.update_sphere_positions();
   for (std::size_t b = 0; b < ps.bodies(); ++b) {
     for (std::uint32_t k = 0; k < ps.sphere_count[b]; ++k) {
-      const Vec3 expected = ps.position[b] + rotate(ps.orientation[b], ps.offsets(b)[k]);
+      const Vec3 expected = ps.position[b] + rotate(ps.orientation_of(b), ps.offsets(b)[k]);
       EXPECT_NEAR(norm(ps.sphere_position[ps.first_sphere[b] + k] - expected), 0.0, 1e-15);
     }
   }
@@ -133,6 +133,55 @@ void expect_forces(const ParticleSystem::SavedForces& a, const ParticleSystem::S
   EXPECT_EQ(a.force, b.force);
   EXPECT_EQ(a.torque, b.torque);
   EXPECT_EQ(a.rolling_resistance, b.rolling_resistance);
+}
+
+// Lone spheres alone keep no orientation and no angular momentum: they read as identity and
+// I omega, a checkpoint holds those (the same section as with them kept) and loads back, and
+// a clump type registered later keeps them from then on, starting from those values.
+TEST(ParticleSystem, LoneSpheresKeepNoRotationUntilAClumpTypeComes) {
+  ParticleSystem ps;
+  ps.add_type(type_of(make_template("sphere", {SphereElement{{}, 2e-3}})));
+  const Quat turned = normalized(Quat{0.3, -0.5, 0.2, 0.7});
+  for (int k = 0; k < 3; ++k) {
+    ps.add(0, {.position = Vec3{0.01 * k, 0.0, 0.0},
+               .orientation = turned,
+               .velocity = {},
+               .angular_velocity = Vec3{1.0, -2.0, 3.0 * k}});
+  }
+  EXPECT_FALSE(ps.keeps_rotation());
+  EXPECT_TRUE(ps.orientation.empty() && ps.angular_momentum.empty());
+  const double i = ps.inertia(0).x;
+  for (std::size_t b = 0; b < ps.bodies(); ++b) {
+    EXPECT_EQ(ps.orientation_of(b), Quat{});
+    EXPECT_EQ(ps.angular_momentum_of(b), i * ps.angular_velocity[b]);
+    EXPECT_EQ(ps.sphere_position[b], ps.position[b]);
+  }
+  EXPECT_DOUBLE_EQ(ps.kinetic_energy(), 0.5 * i * (5.0 + 14.0 + 41.0));  // (at rest: spin alone)
+  io::BinaryWriter out;
+  ps.save(out);
+  io::BinaryReader in(out.bytes(), "spheres");
+  in.get<std::uint64_t>(), in.get<std::uint32_t>(), in.get<std::uint32_t>();
+  in.get<std::vector<std::uint32_t>>(), in.get<std::vector<std::uint32_t>>(), in.get<std::vector<Vec3>>();
+  EXPECT_EQ(in.get<std::vector<Quat>>(), std::vector<Quat>(3, Quat{}));
+  in.get<std::vector<Vec3>>(), in.get<std::vector<Vec3>>();
+  EXPECT_EQ(in.get<std::vector<Vec3>>()[2], ps.angular_momentum_of(2));
+  ParticleSystem back;
+  back.add_type(type_of(make_template("sphere", {SphereElement{{}, 2e-3}})));
+  io::BinaryReader again(out.bytes(), "spheres");
+  back.load(again, 3);
+  EXPECT_FALSE(back.keeps_rotation());
+  EXPECT_TRUE(back.orientation.empty() && back.angular_momentum.empty());
+  EXPECT_EQ(back.angular_velocity, ps.angular_velocity);
+  EXPECT_EQ(back.position, ps.position);
+  ps.add_type(type_of(TemplateLibrary::builtin().get("large_5s")));
+  ASSERT_TRUE(ps.keeps_rotation());
+  ps.add(1, {.position = {}, .orientation = turned, .velocity = {}, .angular_velocity = Vec3{0.0, 0.0, 1.0}});
+  ASSERT_EQ(ps.orientation.size(), 4u);
+  ASSERT_EQ(ps.angular_momentum.size(), 4u);
+  EXPECT_EQ(ps.orientation[1], Quat{});
+  EXPECT_EQ(ps.angular_momentum[2], i * ps.angular_velocity[2]);
+  EXPECT_EQ(ps.orientation[3], turned);
+  EXPECT_EQ(ps.angular_momentum_of(3), ps.spin_momentum(3));
 }
 
 TEST(ParticleSystem, CheckpointsOfEveryVersionLoad) {

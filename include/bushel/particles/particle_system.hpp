@@ -32,6 +32,17 @@ class ParticleSystem {
   std::uint32_t add(std::uint32_t type, const BodyState& state);
 
   std::size_t bodies() const { return body_id.size(); }
+  /// Whether the bodies keep an orientation and an angular momentum: from the first type of
+  /// more than one element on. Without one, every body is a lone sphere, whose orientation
+  /// changes nothing (it is not advanced) and whose angular momentum is I omega: neither is
+  /// stored (56 B a body), and orientation_of and angular_momentum_of derive them.
+  bool keeps_rotation() const { return keeps_rotation_; }
+  /// Body b's orientation (principal frame -> world); identity where it is not kept.
+  Quat orientation_of(std::size_t b) const { return keeps_rotation_ ? orientation[b] : Quat{}; }
+  /// Body b's spin angular momentum, world frame [kg m2/s]; I omega where it is not kept.
+  Vec3 angular_momentum_of(std::size_t b) const {
+    return keeps_rotation_ ? angular_momentum[b] : inertia(b).x * angular_velocity[b];
+  }
   std::size_t spheres() const { return sphere_id.size(); }
   const std::vector<ParticleType>& types() const { return types_; }
 
@@ -48,7 +59,7 @@ class ParticleSystem {
       placed(s, position[b]);
       return;
     }
-    place_elements(b, to_matrix(orientation[b]), placed);
+    place_elements(b, to_matrix(orientation[b]), placed);  // (a clump: kept)
   }
   /// The same for a clump whose rotation matrix r (of its orientation) is at hand.
   template <class Placed>
@@ -113,10 +124,13 @@ class ParticleSystem {
   std::vector<std::uint32_t> body_id;       ///< stable id
   std::vector<std::uint32_t> body_type;     ///< index into types()
   std::vector<Vec3> position;               ///< centre of mass [m]
-  std::vector<Quat> orientation;            ///< principal frame -> world; not advanced for a lone sphere (no effect)
+  std::vector<Quat> orientation;            ///< principal frame -> world; not advanced for a lone sphere (no
+                                            ///< effect); empty unless keeps_rotation()
   std::vector<Vec3> velocity;               ///< [m/s]
-  std::vector<Vec3> angular_velocity;       ///< world frame [rad/s]; derived from angular_momentum each step
-  std::vector<Vec3> angular_momentum;       ///< spin angular momentum, world frame [kg m2/s]: the rotational state
+  std::vector<Vec3> angular_velocity;       ///< world frame [rad/s]; a clump's is derived from angular_momentum
+                                            ///< each step, a sphere's is its rotational state
+  std::vector<Vec3> angular_momentum;       ///< spin angular momentum, world frame [kg m2/s]: a clump's
+                                            ///< rotational state; empty unless keeps_rotation()
   std::vector<std::uint32_t> first_sphere;  ///< index of the body's first element
   std::vector<std::uint32_t> sphere_count;  ///< number of elements
 
@@ -139,6 +153,7 @@ class ParticleSystem {
   std::vector<Vec3> type_inertia_, type_inverse_inertia_;  // per type [kg m2], [1/(kg m2)]
   std::vector<Vec3> type_offsets_;                         // the types' element centres, type by type [m]
   std::vector<std::uint32_t> type_first_offset_;           // a type's first in type_offsets_
+  bool keeps_rotation_ = false;
   std::uint32_t next_body_id_ = 0;
   std::uint32_t next_sphere_id_ = 0;
 };
