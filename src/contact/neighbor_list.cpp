@@ -184,8 +184,10 @@ void NeighborList::load(io::BinaryReader& in, std::uint32_t version) {
   if (version >= 3) in.get(ids_at_build_);
   const bool keyed = version >= 3 ? ids_at_build_.size() == reference_.size() : loaded_keys_.size() == first_.size();
   const bool built = !first_start_.empty();  // (a list saved before its first build is empty)
-  if (built && (!keyed || first_start_.size() != reference_.size() + 1 || second_.size() != first_.size() ||
-                as_second_.size() != first_.size() || second_start_.size() != first_start_.size())) {
+  const bool histories = history_.size() == first_.size() * static_cast<std::size_t>(std::max(history_size_, 0));
+  if (!histories ||
+      (built && (!keyed || first_start_.size() != reference_.size() + 1 || second_.size() != first_.size() ||
+                 as_second_.size() != first_.size() || second_start_.size() != first_start_.size()))) {
     in.damaged("a neighbour list whose arrays do not fit together");
   }
   const auto below = [](const std::vector<std::uint32_t>& v, std::size_t n) {

@@ -2,6 +2,8 @@
 // engine's named sections (binary_archive.hpp). A change to a section's layout is a new
 // version of that section.
 
+#include <fmt/format.h>
+
 #include <type_traits>
 
 #include "bushel/core/input_error.hpp"
@@ -181,6 +183,12 @@ void Simulation::load_state(const io::SectionTable& in) {
     io::SectionTable::Section s = in.get("engine.neighbors", neighbors_version);
     w.neighbors.load(s.body, s.version);
     io::SectionTable::expect_end(s.body, "engine.neighbors");
+    if (const int h = history_size(w.rolling); w.neighbors.history_size() != h) {
+      throw InputError(
+          fmt::format("the checkpoint's contacts keep {} history values each, the scenario's rolling model {} (another "
+                      "rolling model?)",
+                      w.neighbors.history_size(), h));
+    }
   }
   {
     io::SectionTable::Section s = in.get("engine.contacts", contacts_version);

@@ -6,6 +6,7 @@
 
 #include <cstring>
 
+#include "bushel/core/input_error.hpp"
 #include "bushel/experiments/pour_scene.hpp"
 #include "bushel/io/binary_archive.hpp"
 
@@ -113,6 +114,25 @@ TEST(Determinism, TheUnbalancedForceComesBackFromASavedState) {
   c.simulation.step(1);
   b.simulation.step(1);
   EXPECT_EQ(c.simulation.particles().position, b.simulation.particles().position);
+}
+
+TEST(Determinism, AStateOfAnotherRollingModelIsRefused) {
+  // Its contacts' histories have another length (cdt keeps 3 values a pair, epsd 6): read
+  // with the other model's stride they would be read out of bounds.
+  PourScene a = make_pour_scene(bed_spec());
+  a.simulation.step(20);
+  io::BinaryWriter out;
+  a.simulation.save_state(out);
+  PourSpec other = bed_spec();
+  other.rolling = "epsd";
+  PourScene b = make_pour_scene(other);
+  io::BinaryReader in(out.bytes(), "state");
+  try {
+    b.simulation.load_state(io::SectionTable(in));
+    FAIL() << "loaded a state of another rolling model";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("rolling model"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
