@@ -21,15 +21,15 @@ void each_sums_column(S& sums, F&& f) {
   std::vector<Vec3> force(sums.size()), torque(sums.size());
   std::vector<double> cdt(sums.size());
   if constexpr (std::is_const_v<S>) {
-    for (std::size_t s = 0; s < sums.size(); ++s) force[s] = sums[s].force, torque[s] = sums[s].torque;
-    for (std::size_t s = 0; s < sums.size(); ++s) cdt[s] = sums[s].cdt;
+    for (std::size_t s = 0; s < sums.size(); ++s)
+      force[s] = sums[s].force, torque[s] = sums[s].torque, cdt[s] = sums[s].cdt;
   }
   f(force), f(torque), f(cdt);
   if constexpr (!std::is_const_v<S>) {
     if (torque.size() != force.size() || cdt.size() != force.size()) {
       throw InputError("the checkpoint's contact sums do not fit together (a damaged file?)");
     }
-    sums.assign(force.size(), {});
+    sums.resize(force.size());
     for (std::size_t s = 0; s < sums.size(); ++s) sums[s] = {.force = force[s], .torque = torque[s], .cdt = cdt[s]};
   }
 }

@@ -30,9 +30,8 @@ std::uint32_t ParticleSystem::add_type(ParticleType type) {
   const bool clump = type.shape.spheres.size() > 1;
   types_.push_back(std::move(type));
   if (clump && !keeps_rotation_) {  // the lone spheres so far: their derived rotation from now on kept
-    orientation.assign(bodies(), Quat{});
-    angular_momentum.resize(bodies());
-    for (std::size_t b = 0; b < bodies(); ++b) angular_momentum[b] = angular_momentum_of(b);
+    orientation = orientations();
+    angular_momentum = angular_momenta();
     keeps_rotation_ = true;
   }
   return static_cast<std::uint32_t>(types_.size() - 1);
@@ -93,6 +92,17 @@ std::vector<std::uint32_t> ParticleSystem::permute(std::span<const std::uint32_t
   return sphere_order;
 }
 
+std::vector<Quat> ParticleSystem::orientations() const {
+  return keeps_rotation_ ? orientation : std::vector<Quat>(bodies());
+}
+
+std::vector<Vec3> ParticleSystem::angular_momenta() const {
+  if (keeps_rotation_) return angular_momentum;
+  std::vector<Vec3> l(bodies());
+  for (std::size_t b = 0; b < l.size(); ++b) l[b] = angular_momentum_of(b);
+  return l;
+}
+
 double ParticleSystem::rotational_energy(std::size_t b) const {
   const Vec3 w = rotate_inverse(orientation_of(b), angular_velocity[b]);  // body frame
   const Vec3& i = inertia(b);
@@ -119,14 +129,10 @@ void ParticleSystem::save(io::BinaryWriter& out) const {
   out.put(body_id);
   out.put(body_type);
   out.put(position);
-  // (where they are not kept, their derived values: the same section either way)
-  std::vector<Quat> q(keeps_rotation_ ? 0 : bodies());
-  std::vector<Vec3> l(keeps_rotation_ ? 0 : bodies());
-  for (std::size_t b = 0; b < l.size(); ++b) l[b] = angular_momentum_of(b);
-  out.put(keeps_rotation_ ? orientation : q);
+  out.put(orientations());  // (kept or derived: the same section either way)
   out.put(velocity);
   out.put(angular_velocity);
-  out.put(keeps_rotation_ ? angular_momentum : l);
+  out.put(angular_momenta());
   out.put(type_mass_);  // (for the check on load: the bodies' masses are their types')
   out.put(first_sphere);
   out.put(sphere_count);

@@ -100,11 +100,8 @@ std::uint64_t state_hash(const ParticleSystem& ps) {
   mix(ps.body_id);
   mix(ps.position);
   mix(ps.velocity);
-  std::vector<Vec3> l(ps.bodies());
-  std::vector<Quat> q(ps.bodies());
-  for (std::size_t b = 0; b < ps.bodies(); ++b) l[b] = ps.angular_momentum_of(b), q[b] = ps.orientation_of(b);
-  mix(l);
-  mix(q);
+  mix(ps.angular_momenta());
+  mix(ps.orientations());
   return h;
 }
 

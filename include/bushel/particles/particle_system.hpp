@@ -43,6 +43,10 @@ class ParticleSystem {
   Vec3 angular_momentum_of(std::size_t b) const {
     return keeps_rotation_ ? angular_momentum[b] : inertia(b).x * angular_velocity[b];
   }
+  /// Every body's orientation_of and angular_momentum_of, kept or derived (for checkpoints
+  /// and state hashes, which hold them either way).
+  std::vector<Quat> orientations() const;
+  std::vector<Vec3> angular_momenta() const;
   std::size_t spheres() const { return sphere_id.size(); }
   const std::vector<ParticleType>& types() const { return types_; }
 
