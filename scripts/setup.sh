@@ -19,7 +19,7 @@ packages=(
   python3 python3-dev pybind11-dev python3-numpy python3-matplotlib python3-yaml python3-pandas
   python3-scipy python3-sklearn
   jupyter-nbconvert python3-nbclient python3-ipykernel
-  paraview python3-paraview xz-utils
+  paraview python3-paraview xz-utils valgrind
   clang-16 libclang-rt-16-dev llvm-16
 )
 
