@@ -16,6 +16,33 @@ std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
   return a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
 }
 
+// The pairs of a search in element order, each element's partners from its block's list
+// merged with the extra pairs it is first of: the pairs of element i are [start[i],
+// start[i + 1]).
+void flatten(const PartnerBlocks& partners, std::size_t n, std::vector<std::uint32_t>& start,
+             std::vector<std::uint32_t>& first, std::vector<std::uint32_t>& second) {
+  start.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] = partners.count[i];
+  for (const std::uint64_t e : partners.extra) ++start[(e >> 32) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  first.resize(start[n]);
+  second.resize(start[n]);
+  auto extra = partners.extra.begin();
+  for (std::size_t b = 0; b < partners.block.size(); ++b) {
+    const std::uint32_t* from = partners.block[b].data();  // the block's partners, in element order
+    for (std::size_t i = b * partner_block; i < std::min(n, (b + 1) * partner_block); ++i) {
+      const std::uint32_t* const from_end = from + partners.count[i];
+      for (std::size_t p = start[i]; p < start[i + 1]; ++p) {
+        const bool take_extra = extra != partners.extra.end() && (*extra >> 32) == i &&
+                                (from == from_end || static_cast<std::uint32_t>(*extra) < *from);
+        const std::uint32_t j = take_extra ? static_cast<std::uint32_t>(*extra++) : *from++;
+        first[p] = static_cast<std::uint32_t>(i);
+        second[p] = j;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 NeighborList::NeighborList(double skin, int history_size) : skin_(skin), history_size_(history_size) {
@@ -42,31 +69,13 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
       !std::all_of(margin.begin(), margin.end(), [&](double m) { return m >= 0.5 * skin_ && std::isfinite(m); })) {
     throw std::invalid_argument("NeighborList: a finite margin of at least half the skin per element expected");
   }
-  find_partners(position, radius, owner, margin, skin_, partners_);
-  // Flattened in element order, each element's partners from its block's list merged with
-  // the extra pairs it is first of, with each pair's stable identity.
-  std::vector<std::uint32_t> start(n + 1, 0);  // the new list's pairs of element i: [start[i], start[i + 1])
-  for (std::size_t i = 0; i < n; ++i) start[i + 1] = partners_.count[i];
-  for (const std::uint64_t e : partners_.extra) ++start[(e >> 32) + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  const std::size_t n_pairs = start[n];
-  // (the old list's own index by second element is not needed to carry the history over)
-  std::vector<std::uint32_t>().swap(as_second_);
-  std::vector<std::uint32_t> first(n_pairs), second(n_pairs);
-  auto extra = partners_.extra.begin();
-  for (std::size_t b = 0; b < partners_.block.size(); ++b) {
-    const std::uint32_t* from = partners_.block[b].data();  // the block's partners, in element order
-    for (std::size_t i = b * partner_block; i < std::min(n, (b + 1) * partner_block); ++i) {
-      const std::uint32_t* const from_end = from + partners_.count[i];
-      for (std::size_t p = start[i]; p < start[i + 1]; ++p) {
-        const bool take_extra = extra != partners_.extra.end() && (*extra >> 32) == i &&
-                                (from == from_end || static_cast<std::uint32_t>(*extra) < *from);
-        const std::uint32_t j = take_extra ? static_cast<std::uint32_t>(*extra++) : *from++;
-        first[p] = static_cast<std::uint32_t>(i);
-        second[p] = j;
-      }
-    }
+  std::vector<std::uint32_t> start, first, second;
+  {
+    PartnerBlocks partners;  // (scratch: freed before the histories are made)
+    find_partners(position, radius, owner, margin, skin_, partners);
+    flatten(partners, n, start, first, second);
   }
+  const std::size_t n_pairs = first.size();
   margin_.assign(margin.begin(), margin.end());
   std::vector<double> history(n_pairs * static_cast<std::size_t>(history_size_), 0.0);
   if (history_size_ > 0 && !first_.empty()) carry_history(stable_id, start, second, history);
@@ -76,7 +85,6 @@ void NeighborList::build(std::span<const Vec3> position, std::span<const double>
   second_ = std::move(second);
   history_ = std::move(history);
   first_start_ = std::move(start);
-  index_by_second();
   reference_.assign(position.begin(), position.end());
   ++builds_;
 }
@@ -133,16 +141,6 @@ void NeighborList::carry_history(std::span<const std::uint32_t> stable_id, std::
   }
 }
 
-void NeighborList::index_by_second() {
-  const std::size_t n = first_start_.size() - 1;
-  second_start_.assign(n + 1, 0);
-  for (std::size_t p = 0; p < first_.size(); ++p) ++second_start_[second_[p] + 1];
-  std::partial_sum(second_start_.begin(), second_start_.end(), second_start_.begin());
-  as_second_.resize(first_.size());
-  std::vector<std::uint32_t> fill(second_start_.begin(), second_start_.end() - 1);
-  for (std::size_t p = 0; p < first_.size(); ++p) as_second_[fill[second_[p]]++] = static_cast<std::uint32_t>(p);
-}
-
 void NeighborList::save(io::BinaryWriter& out) const {
   out.put(skin_);
   out.put(history_size_);
@@ -153,8 +151,6 @@ void NeighborList::save(io::BinaryWriter& out) const {
   out.put(second_);
   out.put(history_);
   out.put(first_start_);
-  out.put(second_start_);
-  out.put(as_second_);
   out.put(ids_at_build_);
 }
 
@@ -178,16 +174,17 @@ void NeighborList::load(io::BinaryReader& in, std::uint32_t version) {
   if (version <= 2) in.get(loaded_keys_);  // (earlier formats kept each pair's stable identity)
   in.get(history_);
   in.get(first_start_);
-  in.get(second_start_);
-  in.get(as_second_);
+  if (version <= 3) {  // (earlier formats kept an index of the pairs by second element)
+    std::vector<std::uint32_t> second_start, as_second;
+    in.get(second_start), in.get(as_second);
+  }
   ids_at_build_.clear();
   if (version >= 3) in.get(ids_at_build_);
   const bool keyed = version >= 3 ? ids_at_build_.size() == reference_.size() : loaded_keys_.size() == first_.size();
   const bool built = !first_start_.empty();  // (a list saved before its first build is empty)
   const bool histories = history_.size() == first_.size() * static_cast<std::size_t>(std::max(history_size_, 0));
   if (!histories ||
-      (built && (!keyed || first_start_.size() != reference_.size() + 1 || second_.size() != first_.size() ||
-                 as_second_.size() != first_.size() || second_start_.size() != first_start_.size()))) {
+      (built && (!keyed || first_start_.size() != reference_.size() + 1 || second_.size() != first_.size()))) {
     in.damaged("a neighbour list whose arrays do not fit together");
   }
   const auto below = [](const std::vector<std::uint32_t>& v, std::size_t n) {
@@ -197,8 +194,7 @@ void NeighborList::load(io::BinaryReader& in, std::uint32_t version) {
     return start.empty() ||
            (std::is_sorted(start.begin(), start.end()) && start.front() == 0 && start.back() == first_.size());
   };
-  if (!below(first_, reference_.size()) || !below(second_, reference_.size()) || !below(as_second_, first_.size()) ||
-      !ranges(first_start_) || !ranges(second_start_)) {
+  if (!below(first_, reference_.size()) || !below(second_, reference_.size()) || !ranges(first_start_)) {
     in.damaged("a neighbour list with an element or pair index out of range");
   }
 }

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <numeric>
 #include <span>
 #include <type_traits>
 #include <utility>
@@ -133,7 +134,7 @@ struct ContactViews {
   // slots of the second elements not summed directly (ContactSums)
   std::span<Vec3> pair_force, pair_torque_j;
   std::span<double> pair_cdt_j;
-  std::span<const std::uint32_t> slots_of;
+  std::span<const std::uint32_t> slots_of, slot_pair;
   const NeighborList* neighbors;
   // per element sums (ContactSums)
   std::span<ElementSums> own;
@@ -143,6 +144,7 @@ struct ContactViews {
   std::span<const std::uint32_t> part_start, sphere_of_candidate, part_of_candidate, candidate_face_start,
       candidate_faces;
   std::span<const double> candidate_face_distance;
+  std::span<const std::uint32_t> history_start;
   double* part_history;
   std::span<std::uint8_t> candidate_touches;
   std::span<Vec3> part_reaction;
@@ -168,11 +170,11 @@ struct Deepest {
   double overlap = 0.0, radius = 1.0;
 };
 
-// The slot of pair p for its second element j (not summed directly): j's slots follow its
+// The slot of pair p for its second element j (not summed directly): j's slots list its
 // pairs as second, which are few and ascending.
 std::size_t slot_of(const ContactViews& v, std::size_t p, std::uint32_t j) {
-  const auto pairs = v.neighbors->pairs_as_second(j);
-  return v.slots_of[j] + static_cast<std::size_t>(std::lower_bound(pairs.begin(), pairs.end(), p) - pairs.begin());
+  const auto pairs = v.slot_pair.begin();
+  return static_cast<std::size_t>(std::lower_bound(pairs + v.slots_of[j], pairs + v.slots_of[j + 1], p) - pairs);
 }
 
 // Which of pairs [p0, p1) touch, into pl.touching (returns their count), without a branch on
@@ -334,22 +336,22 @@ template <class Rolling>
   r.max_ratio = deepest.overlap / deepest.radius;
 }
 
-// The slot of max_part_touches history slots (each [normal (3), law history]) that a contact
-// with this normal takes: the closest stored normal within 60 degrees, else a free one, else
-// any unused (cleared). Keyed by the normal, a contact sliding across the triangles of one
-// part keeps its history.
-[[gnu::always_inline]] inline int history_slot(double* slots, std::size_t slot_size, const Vec3& normal,
+// The slot of a candidate's n_slots history slots (each [normal (3), law history]) that a
+// contact with this normal takes: the closest stored normal within 60 degrees, else a free
+// one, else any unused (cleared). Keyed by the normal, a contact sliding across the
+// triangles of one part keeps its history.
+[[gnu::always_inline]] inline int history_slot(double* slots, int n_slots, std::size_t slot_size, const Vec3& normal,
                                                const std::array<bool, max_part_touches>& used) {
   int slot = -1;
   double best = 0.5;
-  for (int j = 0; j < max_part_touches; ++j) {
+  for (int j = 0; j < n_slots; ++j) {
     const double c = dot(load3(slots + j * slot_size), normal);
     if (!used[static_cast<std::size_t>(j)] && c > best) best = c, slot = j;
   }
-  for (int j = 0; j < max_part_touches && slot < 0; ++j) {
+  for (int j = 0; j < n_slots && slot < 0; ++j) {
     if (!used[static_cast<std::size_t>(j)] && norm2(load3(slots + j * slot_size)) == 0.0) slot = j;
   }
-  for (int j = 0; j < max_part_touches && slot < 0; ++j) {
+  for (int j = 0; j < n_slots && slot < 0; ++j) {
     if (!used[static_cast<std::size_t>(j)]) slot = j, std::fill_n(slots + j * slot_size, slot_size, 0.0);
   }
   return slot;
@@ -372,7 +374,8 @@ template <class Rolling>
       part_touches(pg.faces, v.candidate_faces.subspan(f0, nf), transpose_times(pg.rotation, v.x_el[s] - origin),
                    v.radius[s], touches, v.candidate_face_distance.subspan(f0, nf), moved);
   const std::size_t slot_size = 3 + static_cast<std::size_t>(v.h);
-  double* slots = v.part_history + cw * max_part_touches * slot_size;
+  double* slots = v.part_history + std::size_t{v.history_start[cw]} * slot_size;
+  const auto n_slots = static_cast<int>(v.history_start[cw + 1] - v.history_start[cw]);
   v.part_reaction[2 * cw] = v.part_reaction[2 * cw + 1] = Vec3{};
   v.candidate_touches[cw] = static_cast<std::uint8_t>(n);
   std::array<bool, max_part_touches> used{};
@@ -380,7 +383,7 @@ template <class Rolling>
   for (int k = 0; k < n; ++k) {
     const PartTouch& t = touches[static_cast<std::size_t>(k)];
     const Vec3 normal = pg.rotation * t.normal, point = origin + pg.rotation * t.point;
-    const int slot = history_slot(slots, slot_size, normal, used);
+    const int slot = history_slot(slots, n_slots, slot_size, normal, used);
     used[static_cast<std::size_t>(slot)] = true;
     double* hist = slots + static_cast<std::size_t>(slot) * slot_size;
     store3(hist, normal);
@@ -407,8 +410,8 @@ template <class Rolling>
                1.0 / mass + arm_len * arm_len * max_component(v.type_inverse_inertia[v.species[s]]), co);
     max_ratio = std::max(max_ratio, t.overlap / v.radius[s]);
   }
-  for (int j = 0; j < max_part_touches; ++j) {  // contacts that ended start afresh
-    double* slot = slots + j * slot_size;       // (a slot in use has a non-zero normal)
+  for (int j = 0; j < n_slots; ++j) {      // contacts that ended start afresh
+    double* slot = slots + j * slot_size;  // (a slot in use has a non-zero normal)
     if (!used[static_cast<std::size_t>(j)] && norm2(load3(slot)) != 0.0) std::fill_n(slot, slot_size, 0.0);
   }
   return max_ratio;
@@ -469,7 +472,9 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
 }
 
 // An element's shares as second element may be summed by the contact stage itself when one
-// thread computes all its pairs as second: that thread meets them in pair order.
+// thread computes all its pairs as second: that thread meets them in pair order. The others
+// (none at one thread; at more, those whose pairs as second fall to two threads, a few near
+// the blocks' ends) get a slot per such pair, listed in pair order.
 void mark_direct_seconds(ContactSums& sums, const NeighborList& neighbors, std::size_t n_s, int team) {
   const auto split = sums.shares.bounds();
   std::vector<int> thread_of(n_s, 0);
@@ -477,23 +482,24 @@ void mark_direct_seconds(ContactSums& sums, const NeighborList& neighbors, std::
     const auto c0 = split[static_cast<std::size_t>(t)], c1 = split[static_cast<std::size_t>(t) + 1];
     std::fill(thread_of.begin() + sums.chunk_start[c0], thread_of.begin() + sums.chunk_start[c1], t);
   }
-  const auto first = neighbors.firsts();
+  const auto first = neighbors.firsts(), second = neighbors.seconds();
   std::fill(sums.second_direct.begin(), sums.second_direct.end(), 1);  // (sized before: views hold it)
-  for (std::size_t s = 0; s < n_s; ++s) {
-    const auto pairs = neighbors.pairs_as_second(s);
-    for (const std::uint32_t p : pairs) {
-      if (thread_of[first[p]] != thread_of[first[pairs.front()]]) sums.second_direct[s] = 0;
-    }
+  std::vector<int> thread_as_second(n_s, -1);  // the thread of the element's first pair as second
+  for (std::size_t p = 0; p < first.size(); ++p) {
+    int& t = thread_as_second[second[p]];
+    if (t < 0) t = thread_of[first[p]];
+    if (t != thread_of[first[p]]) sums.second_direct[second[p]] = 0;
   }
-  // slots for the elements that are not summed directly: at one thread none, at more those
-  // whose pairs as second fall to two threads (a few near the blocks' ends)
-  sums.slots_of.resize(n_s + 1);
-  std::uint32_t slots = 0;
-  for (std::size_t s = 0; s < n_s; ++s) {
-    sums.slots_of[s] = slots;
-    if (!sums.second_direct[s]) slots += static_cast<std::uint32_t>(neighbors.pairs_as_second(s).size());
+  std::vector<std::uint32_t>& slots_of = sums.slots_of;
+  slots_of.assign(n_s + 1, 0);
+  for (std::size_t p = 0; p < first.size(); ++p) slots_of[second[p] + 1] += sums.second_direct[second[p]] ? 0 : 1;
+  std::partial_sum(slots_of.begin(), slots_of.end(), slots_of.begin());
+  const std::uint32_t slots = slots_of[n_s];
+  sums.slot_pair.resize(slots);
+  std::vector<std::uint32_t> fill(slots_of.begin(), slots_of.end() - 1);
+  for (std::size_t p = 0; p < first.size(); ++p) {
+    if (!sums.second_direct[second[p]]) sums.slot_pair[fill[second[p]]++] = static_cast<std::uint32_t>(p);
   }
-  sums.slots_of[n_s] = slots;
   sums.pair_force.resize(slots);
   sums.pair_torque_j.resize(slots);
   sums.pair_cdt_j.resize(slots);
@@ -535,6 +541,7 @@ ContactViews views_of(World& w) {
           .pair_torque_j = s.pair_torque_j,
           .pair_cdt_j = s.pair_cdt_j,
           .slots_of = s.slots_of,
+          .slot_pair = s.slot_pair,
           .neighbors = &w.neighbors,
           .own = s.own,
           .second_direct = s.second_direct,
@@ -545,6 +552,7 @@ ContactViews views_of(World& w) {
           .candidate_face_start = c.face_start,
           .candidate_faces = c.faces,
           .candidate_face_distance = c.face_distance,
+          .history_start = c.history_start,
           .part_history = c.history.data(),
           .candidate_touches = c.touches,
           .part_reaction = c.reaction,

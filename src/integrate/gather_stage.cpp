@@ -49,7 +49,7 @@ void sum_part_reactions(PartCandidates& pc, std::span<Part> parts, StepDiagnosti
   }
 }
 
-void gather(const ParticleSystem& ps, ContactSums& sums, const NeighborList& neighbors, const Vec3& gravity) {
+void gather(const ParticleSystem& ps, ContactSums& sums, const Vec3& gravity) {
   // Per element: its own sums, then the sum of its shares as second element in pair order,
   // which the contact stage kept (direct) or which is summed here from the pair slots in the
   // same order; the second-element accumulators are zeroed for the next step. The body's
@@ -76,10 +76,8 @@ void gather(const ParticleSystem& ps, ContactSums& sums, const NeighborList& nei
       }
       Vec3 f_second, t_second;
       double cdt_second = 0.0;
-      std::size_t slot = sums.slots_of[s];
-      for (const std::uint32_t p : neighbors.pairs_as_second(s)) {
-        const std::size_t k = slot++;
-        if (!sums.pair_active[p]) continue;  // (as the contact stage: only pairs that touch)
+      for (std::size_t k = sums.slots_of[s]; k < sums.slots_of[s + 1]; ++k) {
+        if (!sums.pair_active[sums.slot_pair[k]]) continue;  // (as the contact stage: only pairs that touch)
         f_second -= sums.pair_force[k];
         t_second += sums.pair_torque_j[k];
         cdt_second += sums.pair_cdt_j[k];

@@ -157,25 +157,41 @@ bool add_near_faces(const PartGeometry& pg, const Vec3& p, double reach, std::ve
 // The candidates of the last build, for carrying their histories over by (sphere id, part).
 struct OldCandidates {
   std::vector<std::uint32_t> first;  // [sphere id]: its first candidate, or UINT32_MAX
-  std::vector<std::uint32_t> part, id;
+  std::vector<std::uint32_t> part, id, history_start;
   std::vector<double> history;
   OldCandidates(PartCandidates& pc, std::span<const std::uint32_t> sphere_ids)
       : first(sphere_ids.empty() ? 0 : *std::max_element(sphere_ids.begin(), sphere_ids.end()) + 1, UINT32_MAX),
         part(std::move(pc.part)),
         id(std::move(pc.sphere_id)),
+        history_start(std::move(pc.history_start)),
         history(std::move(pc.history)) {
     for (std::size_t c = id.size(); c-- > 0;) {
       if (id[c] < first.size()) first[id[c]] = static_cast<std::uint32_t>(c);
     }
   }
-  // Copies the history of (id, w), if it had one, to `to`.
-  void carry(std::uint32_t sphere_id, std::uint32_t w, std::size_t slots, double* to) const {
+  // The slots in use (non-zero normal) of (id, w), if it had any, in their order, into `to`
+  // (room for max_part_touches slots of slot_size values); returns their count.
+  std::size_t carry(std::uint32_t sphere_id, std::uint32_t w, std::size_t slot_size, double* to) const {
+    std::size_t used = 0;
     for (std::size_t c = sphere_id < first.size() ? first[sphere_id] : UINT32_MAX; c < id.size() && id[c] == sphere_id;
          ++c) {
-      if (part[c] == w) std::copy_n(history.data() + c * slots, slots, to);
+      if (part[c] != w) continue;
+      for (std::size_t k = history_start[c]; k < history_start[c + 1]; ++k) {
+        const double* slot = history.data() + k * slot_size;
+        if (slot[0] != 0.0 || slot[1] != 0.0 || slot[2] != 0.0) std::copy_n(slot, slot_size, to + used++ * slot_size);
+      }
     }
+    return used;
   }
 };
+
+// History slots for a candidate with `faces` faces within reach and `carried` slots in use:
+// each face gives at most one touch, and a touch that matches no stored normal takes a free
+// slot (contact_stage.cpp, history_slot). One face: one touch a step, so one slot (or as many
+// as are carried, among which its first touch picks the closest normal); more faces: all.
+std::size_t history_slots(std::size_t faces, std::size_t carried) {
+  return faces == 1 ? std::max<std::size_t>(carried, 1) : static_cast<std::size_t>(max_part_touches);
+}
 
 // The sphere-part candidates: no element moves more than its margin between builds, and a
 // build is due when a part has moved half the skin (move_parts), so a sphere further than its
@@ -183,7 +199,7 @@ struct OldCandidates {
 void find_part_candidates(const ParticleSystem& ps, std::span<const Part> parts, std::span<PartGeometry> geometry,
                           const NeighborList& neighbors, PartCandidates& pc) {
   const std::size_t n_s = ps.spheres();
-  const std::size_t slots = max_part_touches * (3 + static_cast<std::size_t>(neighbors.history_size()));
+  const std::size_t slot_size = 3 + static_cast<std::size_t>(neighbors.history_size());
   const OldCandidates old(pc, ps.sphere_id);
   pc.start.assign(n_s + 1, 0);
   pc.part.clear();
@@ -192,8 +208,10 @@ void find_part_candidates(const ParticleSystem& ps, std::span<const Part> parts,
   pc.face_start.assign(1, 0);
   pc.faces.clear();
   pc.face_distance.clear();
+  pc.history_start.assign(1, 0);
   pc.history.clear();
   std::vector<std::uint32_t> near;
+  std::vector<double> carried(max_part_touches * slot_size);
   for (std::size_t s = 0; s < n_s; ++s) {
     // (with the margin half the skin, r + skin exactly)
     const double reach = ps.radius[s] + (neighbors.margin(s) + 0.5 * neighbors.skin());
@@ -205,12 +223,16 @@ void find_part_candidates(const ParticleSystem& ps, std::span<const Part> parts,
       pc.part.push_back(static_cast<std::uint32_t>(w));
       pc.sphere.push_back(static_cast<std::uint32_t>(s));
       pc.sphere_id.push_back(ps.sphere_id[s]);
+      const std::size_t in_use = old.carry(ps.sphere_id[s], static_cast<std::uint32_t>(w), slot_size, carried.data());
+      const std::size_t faces = pc.face_start.back() - pc.face_start[pc.face_start.size() - 2];
       const std::size_t at = pc.history.size();
-      pc.history.resize(at + slots, 0.0);
-      old.carry(ps.sphere_id[s], static_cast<std::uint32_t>(w), slots, pc.history.data() + at);
+      pc.history.resize(at + history_slots(faces, in_use) * slot_size, 0.0);
+      std::copy_n(carried.data(), in_use * slot_size, pc.history.data() + at);
+      pc.history_start.push_back(static_cast<std::uint32_t>(pc.history.size() / slot_size));
     }
     pc.start[s + 1] = static_cast<std::uint32_t>(pc.part.size());
   }
+  pc.history.shrink_to_fit();  // (grown a candidate at a time: up to twice its size)
   pc.reaction.assign(2 * pc.part.size(), Vec3{});
   pc.touches.assign(pc.part.size(), 0);
   for (PartGeometry& pg : geometry) pg.moved = 0.0;

@@ -193,7 +193,7 @@ void Simulation::compute_forces() {
   engine::update_neighbors(w);
   engine::compute_contacts(w);
   engine::sum_part_reactions(w.candidates, w.parts, w.diagnostics);
-  engine::gather(w.particles, w.sums, w.neighbors, w.settings.gravity);
+  engine::gather(w.particles, w.sums, w.settings.gravity);
   w.forces_valid = true;
   engine::update_servos(w.parts, w.time);
 }

@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "bushel/core/input_error.hpp"
+#include "bushel/geometry/part_contact.hpp"
 #include "bushel/integrate/simulation.hpp"
 #include "bushel/io/binary_archive.hpp"
 #include "stages.hpp"
@@ -37,9 +38,10 @@ void each_sums_column(S& sums, F&& f) {
 // Calls f on each member that save_state writes after the neighbour list, in file order: one
 // list for writing and reading (W is World or const World). `moved2`: where a version 1 or 2
 // section held each element's displacement since the build (found again from the neighbour
-// list now), to be read and dropped; null for version 3.
+// list now), to be read and dropped; null from version 3. `slot_index`: the part candidates'
+// history slots are indexed (version 4; before, each candidate had max_part_touches).
 template <class W, class F>
-void each_saved_member(W& w, F&& f, std::vector<double>* moved2 = nullptr) {
+void each_saved_member(W& w, F&& f, std::vector<double>* moved2 = nullptr, bool slot_index = true) {
   static_assert(std::is_same_v<std::size_t, std::uint64_t>, "counts are stored as 64-bit");
   auto& s = w.sums;
   auto& c = w.candidates;
@@ -56,6 +58,7 @@ void each_saved_member(W& w, F&& f, std::vector<double>* moved2 = nullptr) {
   f(c.faces);
   f(c.face_distance);
   if (moved2) f(*moved2);
+  if (slot_index) f(c.history_start);
   f(c.history);
   f(c.reaction);
   f(c.touches);
@@ -118,6 +121,23 @@ void get_member(io::BinaryReader& in, T& m) {
   }
 }
 
+// The part candidates' history slots: indexed from version 4, before max_part_touches each.
+void check_history_slots(engine::World& w, bool indexed) {
+  engine::PartCandidates& c = w.candidates;
+  const std::size_t n_c = c.part.size(), slot_size = 3 + static_cast<std::size_t>(w.neighbors.history_size());
+  constexpr auto most = static_cast<std::size_t>(max_part_touches);
+  if (!indexed) {
+    c.history_start.resize(n_c + 1);
+    for (std::size_t k = 0; k <= n_c; ++k) c.history_start[k] = static_cast<std::uint32_t>(k * most);
+  }
+  const auto& start = c.history_start;
+  bool fits = start.size() == n_c + 1 && start.front() == 0 && c.history.size() == start.back() * slot_size;
+  for (std::size_t k = 0; fits && k < n_c; ++k) {
+    fits = start[k] <= start[k + 1] && start[k + 1] - start[k] <= most;
+  }
+  if (!fits) throw InputError("the checkpoint's part contact histories do not fit together (a damaged file?)");
+}
+
 // The bodies' last forces from a particles section of version 1 or 2 into their first
 // elements' own sums, where the gather leaves them (body_force).
 void put_saved_forces(engine::World& w, const ParticleSystem::SavedForces& saved) {
@@ -135,16 +155,19 @@ void put_saved_forces(engine::World& w, const ParticleSystem::SavedForces& saved
 }  // namespace
 
 // The engine's sections of a checkpoint and their versions: each is written and read here by
-// the part of the World it holds.
-// engine.neighbors version 3 keeps the elements' ids at the build instead of each pair's
-// stable identity (versions 1 and 2 still load). engine.contacts version 1 held the second elements' slots too (one per
-// pair), which are the scratch of a step: version 2 leaves them out, and loading version 1 skips them.
-// engine.particles version 1 held each body's principal moments and each element's centre,
-// which version 2 leaves to the particle types (version 1 still loads, if they agree);
-// version 3 leaves each body's mass to its type and its last forces to the contact sums
-// (engine.contacts), which hold them from version 3 on and no longer the elements'
-// displacements since the build.
-constexpr std::uint32_t parts_version = 1, particles_version = 3, neighbors_version = 3, contacts_version = 3,
+// the part of the World it holds. Earlier versions still load:
+// - engine.neighbors: version 3 keeps the elements' ids at the build instead of each pair's
+//   stable identity; version 4 leaves out the index of the pairs by second element, which the
+//   contact stage keeps where threads share an element (loading versions 1 to 3 skips it).
+// - engine.contacts: version 1 held the second elements' slots too (one per pair), which are
+//   the scratch of a step: version 2 leaves them out. Version 3 holds the bodies' last forces
+//   (in the first elements' own sums) and no longer the elements' displacements since the
+//   build. Version 4 indexes the part candidates' history slots, which were max_part_touches
+//   each before.
+// - engine.particles: version 1 held each body's principal moments and each element's centre,
+//   which version 2 leaves to the particle types (version 1 still loads, if they agree);
+//   version 3 leaves each body's mass to its type and its last forces to the contact sums.
+constexpr std::uint32_t parts_version = 1, particles_version = 3, neighbors_version = 4, contacts_version = 4,
                         diagnostics_version = 1;
 
 void Simulation::save_state(io::BinaryWriter& out) const {
@@ -199,8 +222,9 @@ void Simulation::load_state(const io::SectionTable& in) {
     }
     std::vector<double> moved2;
     each_saved_member(
-        w, [&](auto& m) { get_member(s.body, m); }, s.version < 3 ? &moved2 : nullptr);
+        w, [&](auto& m) { get_member(s.body, m); }, s.version < 3 ? &moved2 : nullptr, s.version >= 4);
     io::SectionTable::expect_end(s.body, "engine.contacts");
+    check_history_slots(w, s.version >= 4);
     put_saved_forces(w, saved);
     w.sums.direct_team = 0;  // (the slots are found again at the first step)
   }

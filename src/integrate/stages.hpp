@@ -50,7 +50,7 @@ void sum_part_reactions(PartCandidates& candidates, std::span<Part> parts, StepD
 /// Each body's force (gravity included), torque and rolling resistance from its elements'
 /// sums, in a fixed order, into its first element's own sums (body_force); the
 /// second-element sums are zeroed for the next step.
-void gather(const ParticleSystem& ps, ContactSums& sums, const NeighborList& neighbors, const Vec3& gravity);
+void gather(const ParticleSystem& ps, ContactSums& sums, const Vec3& gravity);
 /// Body b's total force of the last step [N], torque about its centre of mass [N m] and CDT
 /// rolling resistance [N m], as the gather left them (until the next contact stage). The
 /// steps read them directly; between steps, Simulation::body_force gives zero for a body

@@ -53,8 +53,9 @@ struct ContactSums {
   std::vector<Vec3> pair_force;           ///< force on the first element (the second gets minus this) [N]
   std::vector<Vec3> pair_torque_j;        ///< torque on the second element's body [N m]
   std::vector<double> pair_cdt_j;         ///< CDT magnitude on the second element's body [N m]
-  std::vector<std::uint32_t> slots_of;    ///< [s]: the element's slots start at slots_of[s], one per pair
-                                          ///< as second in pairs_as_second order (none where second_direct)
+  std::vector<std::uint32_t> slots_of;    ///< [s]: the element's slots are [slots_of[s], slots_of[s + 1]),
+                                          ///< one per pair it is second of (none where second_direct)
+  std::vector<std::uint32_t> slot_pair;   ///< [slot]: its pair; an element's slots in pair order
   std::vector<std::uint8_t> pair_active;  ///< [p]: 1 while the pair touches (or may: a fresh list)
   std::size_t active_build = 0;           ///< neighbour-list build the flags belong to
   // per element: its own sums; after the gather, a body's first element holds the body's totals
@@ -70,8 +71,9 @@ struct ContactSums {
 };
 
 /// Sphere-part candidates: the spheres within the skin of a part's faces at the last build,
-/// grouped by sphere (CSR), each with its nearby faces and max_part_touches history slots of
-/// [normal (3), contact-law history] keyed by the contact's normal.
+/// grouped by sphere (CSR), each with its nearby faces and up to max_part_touches history
+/// slots of [normal (3), contact-law history] keyed by the contact's normal (one slot where a
+/// single face is near).
 struct PartCandidates {
   std::vector<std::uint32_t> start;              ///< [s]: the sphere's candidates are [start[s], start[s + 1])
   std::vector<std::uint32_t> part;               ///< [c]: the part
@@ -79,7 +81,8 @@ struct PartCandidates {
   std::vector<std::uint32_t> sphere_id;          ///< [c]: its stable id (histories follow it across builds)
   std::vector<std::uint32_t> face_start, faces;  ///< [c]: its faces within the skin (CSR)
   std::vector<double> face_distance;             ///< centre to face at the build [m]
-  std::vector<double> history;                   ///< [c][slot][3 + history size]
+  std::vector<std::uint32_t> history_start;      ///< [c]: its slots are [history_start[c], history_start[c + 1])
+  std::vector<double> history;                   ///< [slot][3 + history size]
   std::vector<Vec3> reaction;         ///< [2 c]: force on the part [N], its torque about the part origin [N m]
   std::vector<std::uint8_t> touches;  ///< [c]: contacts in the last step
   std::vector<Vec3> partial;          ///< per-block sums of reaction (sum_part_reactions)

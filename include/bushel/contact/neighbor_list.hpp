@@ -82,17 +82,13 @@ class NeighborList {
   /// contiguous indices [begin_of(i), begin_of(i + 1)), so one thread can sum their forces on
   /// i without sharing it.
   std::size_t begin_of(std::size_t element) const { return first_start_[element]; }
-  /// Indices of the pairs whose second element is `element`, ascending (CSR): the fixed order
-  /// in which their forces on it are gathered, whatever the thread count.
-  std::span<const std::uint32_t> pairs_as_second(std::size_t element) const {
-    return {as_second_.data() + second_start_[element], second_start_[element + 1] - second_start_[element]};
-  }
 
   /// The whole list, for a checkpoint; `load` restores it exactly (throws InputError on a
   /// truncated archive).
   void save(io::BinaryWriter& out) const;
   /// `version` 1: a list without margins (each element's is half the skin); 2: with them;
-  /// 3: with the elements' ids at the build instead of each pair's stable identity.
+  /// 3: with the elements' ids at the build instead of each pair's stable identity; 4: without
+  /// an index of the pairs by second element (which earlier versions kept).
   void load(io::BinaryReader& in, std::uint32_t version);
 
  private:
@@ -102,8 +98,6 @@ class NeighborList {
                      std::span<const std::uint32_t> second, std::span<double> history) const;
   /// The stable identity of old pair o: min id << 32 | max id.
   std::uint64_t old_key(std::size_t o) const;
-  /// second_start_ and as_second_ from the pairs.
-  void index_by_second();
 
   double skin_;
   int history_size_;
@@ -112,12 +106,10 @@ class NeighborList {
   std::vector<double> margin_;   // each element's margin at the last build [m]
   std::vector<std::uint32_t> first_, second_;
   std::vector<double> history_;
-  std::vector<std::uint32_t> first_start_;               // CSR over first elements
-  std::vector<std::uint32_t> second_start_, as_second_;  // CSR of pair indices by second element
-  PartnerBlocks partners_;                               // build scratch
-  std::vector<std::uint32_t> ids_at_build_;              // the elements' stable ids at the last build
-  std::vector<std::uint64_t> loaded_keys_;  // each pair's stable identity, from a checkpoint of version 1 or 2
-                                            // (which did not save ids_at_build_), until the next build
+  std::vector<std::uint32_t> first_start_;   // CSR over first elements
+  std::vector<std::uint32_t> ids_at_build_;  // the elements' stable ids at the last build
+  std::vector<std::uint64_t> loaded_keys_;   // each pair's stable identity, from a checkpoint of version 1 or 2
+                                             // (which did not save ids_at_build_), until the next build
 };
 
 }  // namespace bushel
