@@ -8,12 +8,24 @@
 // grid; each of them scans the narrow elements' grid as far as its own reach, and a grid of
 // the wide elements for its wide partners.
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
+#include <vector>
 
-#include "bushel/contact/neighbor_list.hpp"
+#include "bushel/core/vec3.hpp"
 
 namespace bushel {
+
+/// A build's scratch: the partners of each element, in one list per block of partner_block
+/// elements (fewer allocations than one per element), and their counts; and the pairs that
+/// wide elements found with lower narrow ones.
+inline constexpr std::size_t partner_block = 256;
+struct PartnerBlocks {
+  std::vector<std::vector<std::uint32_t>> block;  ///< [block]: its elements' partners, in element order
+  std::vector<std::uint32_t> count;               ///< [element]: its partners in its block's list
+  std::vector<std::uint64_t> extra;               ///< more pairs, first << 32 | second, sorted
+};
 
 /// Partners of every element into `partners`: per element i, the partners j > i in its block's
 /// list, sorted, and their count; the pairs (j, i), j < i, that wide elements i found with

@@ -18,16 +18,6 @@
 
 namespace bushel {
 
-/// A build's scratch: the partners of each element, in one list per block of partner_block
-/// elements (fewer allocations than one per element), and their counts; and the pairs that
-/// wide elements found with lower narrow ones.
-inline constexpr std::size_t partner_block = 256;
-struct PartnerBlocks {
-  std::vector<std::vector<std::uint32_t>> block;  ///< [block]: its elements' partners, in element order
-  std::vector<std::uint32_t> count;               ///< [element]: its partners in its block's list
-  std::vector<std::uint64_t> extra;               ///< more pairs, first << 32 | second, sorted
-};
-
 class NeighborList {
  public:
   /// `skin` [m] > 0; `history_size` values of history per pair.
