@@ -143,9 +143,11 @@ void check_history_slots(engine::World& w, bool indexed) {
 void put_saved_forces(engine::World& w, const ParticleSystem::SavedForces& saved) {
   const ParticleSystem& ps = w.particles;
   if (saved.force.empty()) return;
-  if (w.sums.own.size() != ps.spheres()) {
+  // (sums for fewer elements: bodies added since the last step, whose forces are not valid yet)
+  if (w.sums.own.size() > ps.spheres()) {
     throw InputError("the checkpoint's contact sums do not match its particles (a damaged file?)");
   }
+  w.sums.own.resize(ps.spheres());
   for (std::size_t b = 0; b < ps.bodies(); ++b) {
     const std::uint32_t s0 = ps.first_sphere[b];
     w.sums.own[s0] = {.force = saved.force[b], .torque = saved.torque[b], .cdt = saved.rolling_resistance[b]};
