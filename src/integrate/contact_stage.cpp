@@ -349,7 +349,7 @@ template <class Rolling>
     if (!used[static_cast<std::size_t>(j)] && c > best) best = c, slot = j;
   }
   for (int j = 0; j < n_slots && slot < 0; ++j) {
-    if (!used[static_cast<std::size_t>(j)] && norm2(load3(slots + j * slot_size)) == 0.0) slot = j;
+    if (!used[static_cast<std::size_t>(j)] && !history_slot_in_use(slots + j * slot_size)) slot = j;
   }
   for (int j = 0; j < n_slots && slot < 0; ++j) {
     if (!used[static_cast<std::size_t>(j)]) slot = j, std::fill_n(slots + j * slot_size, slot_size, 0.0);
@@ -410,9 +410,9 @@ template <class Rolling>
                1.0 / mass + arm_len * arm_len * max_component(v.type_inverse_inertia[v.species[s]]), co);
     max_ratio = std::max(max_ratio, t.overlap / v.radius[s]);
   }
-  for (int j = 0; j < n_slots; ++j) {      // contacts that ended start afresh
-    double* slot = slots + j * slot_size;  // (a slot in use has a non-zero normal)
-    if (!used[static_cast<std::size_t>(j)] && norm2(load3(slot)) != 0.0) std::fill_n(slot, slot_size, 0.0);
+  for (int j = 0; j < n_slots; ++j) {  // contacts that ended start afresh
+    double* slot = slots + j * slot_size;
+    if (!used[static_cast<std::size_t>(j)] && history_slot_in_use(slot)) std::fill_n(slot, slot_size, 0.0);
   }
   return max_ratio;
 }

@@ -169,7 +169,7 @@ struct OldCandidates {
       if (id[c] < first.size()) first[id[c]] = static_cast<std::uint32_t>(c);
     }
   }
-  // The slots in use (non-zero normal) of (id, w), if it had any, in their order, into `to`
+  // The slots in use of (id, w), if it had any, in their order, into `to`
   // (room for max_part_touches slots of slot_size values); returns their count.
   std::size_t carry(std::uint32_t sphere_id, std::uint32_t w, std::size_t slot_size, double* to) const {
     std::size_t used = 0;
@@ -178,7 +178,7 @@ struct OldCandidates {
       if (part[c] != w) continue;
       for (std::size_t k = history_start[c]; k < history_start[c + 1]; ++k) {
         const double* slot = history.data() + k * slot_size;
-        if (slot[0] != 0.0 || slot[1] != 0.0 || slot[2] != 0.0) std::copy_n(slot, slot_size, to + used++ * slot_size);
+        if (history_slot_in_use(slot)) std::copy_n(slot, slot_size, to + used++ * slot_size);
       }
     }
     return used;

@@ -89,6 +89,10 @@ struct PartCandidates {
   bool stale = true;                  ///< parts changed or moved half the skin: find them again
 };
 
+/// Whether a part candidate's history slot (PartCandidates::history) holds a contact: a slot
+/// in use keeps the contact's unit normal, a free one is all zeros.
+inline bool history_slot_in_use(const double* slot) { return norm2(Vec3{slot[0], slot[1], slot[2]}) != 0.0; }
+
 /// The adaptive skin's range and clock (neighbor_stage.cpp).
 struct SkinControl {
   double least = 0.0, most = 0.0;     ///< the skin's range [m]: equal when it is fixed
