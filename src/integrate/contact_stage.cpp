@@ -1,8 +1,9 @@
 // The contact stage: every sphere-sphere and sphere-part contact of a step, in parallel over
 // fixed chunks of elements (each about 256 pairs and part candidates). Every element sums its
 // own pairs (as first element) and its nearby parts (part_contact.hpp: one contact per touch
-// of a part's surface); the share of each pair's second element goes to the pair's slot, or
-// straight to the element where one thread has all of its pairs as second. The contact law
+// of a part's surface) in the chunk's scratch; the share of each pair's second element goes
+// to the pair's slot, or straight to the element where one thread has all of its pairs as
+// second. A chunk's end takes the totals of the bodies it completes (ContactSums). The contact law
 // runs over batches of contacts at once (contact_batch.hpp); the rolling model is a template
 // parameter, so the loop is compiled once per model.
 
@@ -110,6 +111,7 @@ struct PairLanes {
 struct Workspace {
   PairLanes pairs;
   PartLanes parts;
+  std::vector<ElementSums> own;  // the chunk's elements' own sums
 };
 
 // Everything the contact stage reads and writes, as plain views. Each chunk works on its own
@@ -136,10 +138,15 @@ struct ContactViews {
   std::span<double> pair_cdt_j;
   std::span<const std::uint32_t> slots_of, slot_pair;
   const NeighborList* neighbors;
-  // per element sums (ContactSums)
+  // per element sums (ContactSums): the chunk's own sums (element e0 + k at k), the shares
+  // as second element, the deferred elements and their own sums
   std::span<ElementSums> own;
+  std::uint32_t e0;
   std::span<const std::uint8_t> second_direct;
-  std::span<ElementSums> second_sums;
+  std::span<ElementSums> element;
+  std::span<const std::uint32_t> deferred, chunk_deferred;
+  std::span<ElementSums> deferred_own;
+  Vec3 gravity;  // [m/s2]
   // sphere-part candidates [c] (PartCandidates) and the parts [w]
   std::span<const std::uint32_t> part_start, sphere_of_candidate, part_of_candidate, candidate_face_start,
       candidate_faces;
@@ -245,7 +252,7 @@ std::size_t slot_of(const ContactViews& v, std::size_t p, std::uint32_t j) {
     const double* hist = v.history + std::size_t{p} * static_cast<std::size_t>(v.h);
     pb.xi_x[k] = hist[0], pb.xi_y[k] = hist[1], pb.xi_z[k] = hist[2];
     // j's sums, which finish_pairs adds to after the batch is solved, miss the cache otherwise.
-    __builtin_prefetch(&v.second_sums[j], 1);
+    __builtin_prefetch(&v.element[j], 1);
     // And j's body position, which set_offsets reads for clumps.
     __builtin_prefetch(&v.x_b[bj]);
     const std::uint32_t co = v.species[i] * ns + v.species[j];
@@ -300,13 +307,13 @@ template <class Rolling>
     const Vec3 f{pb.fx[k], pb.fy[k], pb.fz[k]};
     Vec3 t_i{pb.tix[k], pb.tiy[k], pb.tiz[k]}, t_j{pb.tjx[k], pb.tjy[k], pb.tjz[k]};
     if constexpr (Rolling::has_torque) t_i += roll.torque_i, t_j += roll.torque_j;
-    ElementSums& sums_i = v.own[i];
+    ElementSums& sums_i = v.own[i - v.e0];
     sums_i.force += f;
     r.force_sum += norm(f);
     sums_i.torque += t_i;
     sums_i.cdt += roll.cdt_i;
     if (v.second_direct[j]) {  // this thread has all of j's pairs as second: sum in pair order
-      ElementSums& sums_j = v.second_sums[j];
+      ElementSums& sums_j = v.element[j];
       sums_j.force -= f;
       sums_j.torque += t_j;
       sums_j.cdt += roll.cdt_j;
@@ -443,7 +450,7 @@ template <class Rolling>
                                                spring);
     if constexpr (Rolling::history_size > 0) store3(e.history + 3, spring);
     const Vec3 f{b.fx[k], b.fy[k], b.fz[k]};
-    ElementSums& sums = v.own[e.element];
+    ElementSums& sums = v.own[e.element - v.e0];
     sums.force += f;
     sums.torque += cross(e.arm_i, f) + roll.torque_i;
     sums.cdt += roll.cdt_i;
@@ -453,14 +460,35 @@ template <class Rolling>
   b.size = 0;
 }
 
-// The contacts of elements [e0, e1): their pairs [p0, p1) as first element, then their part
-// candidates; each element's own sums are zeroed and rebuilt here.
+// The end of chunk k, elements [e0, e1): the totals of the bodies it finishes, in the
+// gather's order (body_totals); the deferred elements' own sums are kept for the gather.
+void finish_bodies(const ContactViews& v, std::size_t k, std::uint32_t e0, std::uint32_t e1) {
+  std::size_t d = v.chunk_deferred[k];
+  const auto own = [&v](std::uint32_t s) -> const ElementSums& { return v.own[s - v.e0]; };
+  const auto second = [&v](std::uint32_t s) { return v.element[s]; };
+  for (std::uint32_t s = e0; s < e1;) {
+    if (d < v.chunk_deferred[k + 1] && v.deferred[d] == s) {
+      v.deferred_own[d++] = own(s);
+      ++s;
+      continue;
+    }
+    const std::uint32_t n = v.sphere_count[v.owner[s]];  // (s is the body's first element)
+    v.element[s] = body_totals(v.type_mass[v.species[s]] * v.gravity, s, n, own, second);
+    s += n;
+  }
+}
+
+// The contacts of chunk k, elements [e0, e1): their pairs [p0, p1) as first element, then
+// their part candidates, into the elements' own sums (the workspace's, zeroed here); then
+// the chunk's bodies are finished.
 template <class Rolling>
-ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint32_t e1, std::size_t p0, std::size_t p1,
-                          Workspace& work) {
-  const ContactViews v = views;
+ChunkResult contact_chunk(const ContactViews& views, std::size_t k, std::uint32_t e0, std::uint32_t e1, std::size_t p0,
+                          std::size_t p1, Workspace& work) {
+  ContactViews v = views;
+  work.own.assign(e1 - e0, ElementSums{});
+  v.own = work.own;
+  v.e0 = e0;
   ChunkResult r;
-  std::fill(v.own.begin() + e0, v.own.begin() + e1, ElementSums{});
   pair_contacts<Rolling>(v, p0, p1, work.pairs, r);
   PartLanes& lanes = work.parts;
   for (std::size_t cw = v.part_start[e0]; cw < v.part_start[e1]; ++cw) {
@@ -468,6 +496,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
     r.max_ratio = std::max(r.max_ratio, visit_part<Rolling>(v, cw, lanes));
   }
   finish_parts<Rolling>(v, lanes);
+  finish_bodies(v, k, e0, e1);
   return r;
 }
 
@@ -475,7 +504,35 @@ ChunkResult contact_chunk(const ContactViews& views, std::uint32_t e0, std::uint
 // thread computes all its pairs as second: that thread meets them in pair order. The others
 // (none at one thread; at more, those whose pairs as second fall to two threads, a few near
 // the blocks' ends) get a slot per such pair, listed in pair order.
-void mark_direct_seconds(ContactSums& sums, const NeighborList& neighbors, std::size_t n_s, int team) {
+// Which bodies the contact stage finishes at their chunk's end: those whose elements lie in
+// one chunk and take all their shares as second from that chunk's thread, which has summed
+// them by then (a pair's first element comes before its second, and a thread takes its chunks
+// in order). The elements of the others are deferred to the gather.
+void defer_bodies(ContactSums& sums, const ParticleSystem& ps, std::span<const int> thread_of,
+                  std::span<const int> thread_as_second) {
+  const std::vector<std::uint32_t>& chunk_start = sums.chunk_start;
+  sums.deferred.clear();
+  std::size_t k = 0;  // the chunk of the body's first element
+  for (std::uint32_t s0 = 0; s0 < ps.spheres();) {
+    const std::uint32_t s1 = s0 + ps.sphere_count[ps.owner[s0]];
+    while (chunk_start[k + 1] <= s0) ++k;
+    bool finished = s1 <= chunk_start[k + 1];
+    for (std::uint32_t s = s0; s < s1; ++s) {
+      finished &= sums.second_direct[s] && (thread_as_second[s] < 0 || thread_as_second[s] == thread_of[s]);
+    }
+    for (std::uint32_t s = s0; s < s1 && !finished; ++s) sums.deferred.push_back(s);
+    s0 = s1;
+  }
+  sums.deferred_own.resize(sums.deferred.size());
+  sums.chunk_deferred.resize(chunk_start.size());
+  for (std::size_t c = 0; c < chunk_start.size(); ++c) {
+    const auto at = std::lower_bound(sums.deferred.begin(), sums.deferred.end(), chunk_start[c]);
+    sums.chunk_deferred[c] = static_cast<std::uint32_t>(at - sums.deferred.begin());
+  }
+}
+
+void mark_direct_seconds(ContactSums& sums, const NeighborList& neighbors, const ParticleSystem& ps, int team) {
+  const std::size_t n_s = ps.spheres();
   const auto split = sums.shares.bounds();
   std::vector<int> thread_of(n_s, 0);
   for (int t = 0; t < team; ++t) {
@@ -503,6 +560,7 @@ void mark_direct_seconds(ContactSums& sums, const NeighborList& neighbors, std::
   sums.pair_force.resize(slots);
   sums.pair_torque_j.resize(slots);
   sums.pair_cdt_j.resize(slots);
+  defer_bodies(sums, ps, thread_of, thread_as_second);
   sums.direct_build = neighbors.builds();
   sums.direct_team = team;
 }
@@ -543,9 +601,14 @@ ContactViews views_of(World& w) {
           .slots_of = s.slots_of,
           .slot_pair = s.slot_pair,
           .neighbors = &w.neighbors,
-          .own = s.own,
+          .own = {},
+          .e0 = 0,
           .second_direct = s.second_direct,
-          .second_sums = s.second,
+          .element = s.element,
+          .deferred = s.deferred,
+          .chunk_deferred = s.chunk_deferred,
+          .deferred_own = s.deferred_own,
+          .gravity = w.settings.gravity,
           .part_start = c.start,
           .sphere_of_candidate = c.sphere,
           .part_of_candidate = c.part,
@@ -584,13 +647,17 @@ void contacts(World& w) {
 #ifdef BUSHEL_HAVE_OPENMP
     team = omp_get_num_threads(), me = omp_get_thread_num();
 #endif
-    // Each thread takes a block of chunks (ThreadShares), which mark_direct_seconds knows.
+    // The shares as second element are summed from zero (the last step's totals are read).
+    const auto n_s = static_cast<std::ptrdiff_t>(sums.element.size());
+#pragma omp for schedule(static) nowait
+    for (std::ptrdiff_t s = 0; s < n_s; ++s) sums.element[static_cast<std::size_t>(s)] = ElementSums{};
+      // Each thread takes a block of chunks (ThreadShares), which mark_direct_seconds knows.
 #pragma omp single
     {
       const bool split = sums.shares.split(n_chunks, team);
       if (split || sums.direct_build != w.neighbors.builds() || sums.direct_team != team ||
-          sums.slots_of.size() != w.particles.spheres() + 1) {
-        mark_direct_seconds(sums, w.neighbors, w.particles.spheres(), team);
+          sums.slots_of.size() != w.particles.spheres() + 1 || sums.chunk_deferred.size() != n_chunks + 1) {
+        mark_direct_seconds(sums, w.neighbors, w.particles, team);
       }
       team_used = team;
     }
@@ -605,7 +672,7 @@ void contacts(World& w) {
     for (std::size_t c = c0; c < c1; ++c) {
       const std::uint32_t e0 = sums.chunk_start[c], e1 = sums.chunk_start[c + 1];
       const ChunkResult r =
-          contact_chunk<Rolling>(views, e0, e1, w.neighbors.begin_of(e0), w.neighbors.begin_of(e1), *work);
+          contact_chunk<Rolling>(views, c, e0, e1, w.neighbors.begin_of(e0), w.neighbors.begin_of(e1), *work);
       max_ratio = std::max(max_ratio, r.max_ratio);
       touching += r.touching;
       force_sum[c] = r.force_sum;

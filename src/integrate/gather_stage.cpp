@@ -50,44 +50,28 @@ void sum_part_reactions(PartCandidates& pc, std::span<Part> parts, StepDiagnosti
 }
 
 void gather(const ParticleSystem& ps, ContactSums& sums, const Vec3& gravity) {
-  // Per element: its own sums, then the sum of its shares as second element in pair order,
-  // which the contact stage kept (direct) or which is summed here from the pair slots in the
-  // same order; the second-element accumulators are zeroed for the next step. The body's
-  // totals take its first element's own sums (read before), which the next contact stage
-  // zeroes again: no per-body arrays.
-  const auto nb = static_cast<std::ptrdiff_t>(ps.bodies());
-  const Vec3 g = gravity;  // (a copy: through the reference it is reloaded after every store)
-#pragma omp parallel for schedule(static) if (parallel_work(ps))
-  for (std::ptrdiff_t sb = 0; sb < nb; ++sb) {
-    const auto b = static_cast<std::size_t>(sb);
-    Vec3 f = ps.mass(b) * g, t;
-    double cdt = 0.0;
-    for (std::uint32_t s = ps.first_sphere[b]; s < ps.first_sphere[b] + ps.sphere_count[b]; ++s) {
-      f += sums.own[s].force;
-      t += sums.own[s].torque;
-      cdt += sums.own[s].cdt;
-      if (sums.second_direct[s]) {
-        ElementSums& second = sums.second[s];
-        f += second.force;
-        t += second.torque;
-        cdt += second.cdt;
-        second = {};
-        continue;
-      }
-      Vec3 f_second, t_second;
-      double cdt_second = 0.0;
-      for (std::size_t k = sums.slots_of[s]; k < sums.slots_of[s + 1]; ++k) {
-        if (!sums.pair_active[sums.slot_pair[k]]) continue;  // (as the contact stage: only pairs that touch)
-        f_second -= sums.pair_force[k];
-        t_second += sums.pair_torque_j[k];
-        cdt_second += sums.pair_cdt_j[k];
-      }
-      f += f_second;
-      t += t_second;
-      cdt += cdt_second;
+  // The contact stage finished most bodies at its chunks' ends; the deferred ones (a body
+  // across two chunks, or whose elements take shares as second from another thread) are
+  // taken here from their elements' kept own sums, in the same order. An element's shares as
+  // second are its entry where the contact stage summed them directly, else its pair slots
+  // summed in pair order.
+  const auto second = [&sums](std::uint32_t s) {
+    if (sums.second_direct[s]) return sums.element[s];
+    ElementSums from_slots;
+    for (std::size_t k = sums.slots_of[s]; k < sums.slots_of[s + 1]; ++k) {
+      if (!sums.pair_active[sums.slot_pair[k]]) continue;  // (as the contact stage: only pairs that touch)
+      from_slots.force -= sums.pair_force[k];
+      from_slots.torque += sums.pair_torque_j[k];
+      from_slots.cdt += sums.pair_cdt_j[k];
     }
-    const std::uint32_t s0 = ps.first_sphere[b];
-    sums.own[s0] = {.force = f, .torque = t, .cdt = cdt};
+    return from_slots;
+  };
+  const std::span<const std::uint32_t> deferred = sums.deferred;
+  for (std::size_t k = 0; k < deferred.size();) {
+    const std::uint32_t s0 = deferred[k], b = ps.owner[s0], n = ps.sphere_count[b];
+    const auto own = [&sums, k, s0](std::uint32_t s) -> const ElementSums& { return sums.deferred_own[k + s - s0]; };
+    sums.element[s0] = body_totals(ps.mass(b) * gravity, s0, n, own, second);
+    k += n;
   }
 }
 
@@ -105,7 +89,7 @@ void reorder(std::vector<T>& v, std::span<const std::uint32_t> order) {
 }  // namespace
 
 void permute_body_sums(ContactSums& sums, std::span<const std::uint32_t> sphere_order) {
-  reorder(sums.own, sphere_order);
+  reorder(sums.element, sphere_order);
 }
 
 double unbalanced_force_ratio(const ParticleSystem& ps, const ContactSums& sums, const StepDiagnostics& d) {

@@ -241,7 +241,7 @@ void find_part_candidates(const ParticleSystem& ps, std::span<const Part> parts,
 
 // Runs of whole elements with about 256 pairs and part candidates each (with pair batches of
 // 64, 3% faster than runs of 128; 512 was no faster): a fixed split (the thread count plays no
-// part), and each element's own sums stay in one chunk.
+// part), and each element's own sums are taken in one chunk.
 void split_into_chunks(std::size_t n_s, const NeighborList& neighbors, const PartCandidates& pc,
                        std::vector<std::uint32_t>& chunk_start) {
   constexpr std::size_t chunk_load = 256;

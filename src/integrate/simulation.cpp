@@ -157,8 +157,7 @@ void Simulation::prepare_steps() {
   }
   const std::size_t n_s = w.particles.spheres();
   engine::ContactSums& s = w.sums;
-  s.own.resize(n_s);
-  s.second.resize(n_s);
+  s.element.resize(n_s);
   s.second_direct.resize(n_s);
   w.particles.update_sphere_positions();
   // Particles may have been added or moved from outside: their displacements are measured.

@@ -40,14 +40,18 @@ void each_sums_column(S& sums, F&& f) {
 // section held each element's displacement since the build (found again from the neighbour
 // list now), to be read and dropped; null from version 3. `slot_index`: the part candidates'
 // history slots are indexed (version 4; before, each candidate had max_part_touches).
+// `second_sums`: where a section before version 5 held the elements' own sums (into
+// ContactSums::element, whose first elements' entries hold the bodies' totals as the own sums
+// did) and then their sums as second element (zero between steps), to be read and dropped.
 template <class W, class F>
-void each_saved_member(W& w, F&& f, std::vector<double>* moved2 = nullptr, bool slot_index = true) {
+void each_saved_member(W& w, F&& f, std::vector<double>* moved2 = nullptr, bool slot_index = true,
+                       std::vector<engine::ElementSums>* second_sums = nullptr) {
   static_assert(std::is_same_v<std::size_t, std::uint64_t>, "counts are stored as 64-bit");
   auto& s = w.sums;
   auto& c = w.candidates;
   f(s.pair_active);
-  each_sums_column(s.own, f);
-  each_sums_column(s.second, f);
+  each_sums_column(s.element, f);
+  if (second_sums) each_sums_column(*second_sums, f);
   f(s.second_direct);
   f(s.chunk_start);
   f(c.start);
@@ -139,18 +143,18 @@ void check_history_slots(engine::World& w, bool indexed) {
 }
 
 // The bodies' last forces from a particles section of version 1 or 2 into their first
-// elements' own sums, where the gather leaves them (body_force).
+// elements' entries, where the contact stage and the gather leave them (body_force).
 void put_saved_forces(engine::World& w, const ParticleSystem::SavedForces& saved) {
   const ParticleSystem& ps = w.particles;
   if (saved.force.empty()) return;
   // (sums for fewer elements: bodies added since the last step, whose forces are not valid yet)
-  if (w.sums.own.size() > ps.spheres()) {
+  if (w.sums.element.size() > ps.spheres()) {
     throw InputError("the checkpoint's contact sums do not match its particles (a damaged file?)");
   }
-  w.sums.own.resize(ps.spheres());
+  w.sums.element.resize(ps.spheres());
   for (std::size_t b = 0; b < ps.bodies(); ++b) {
     const std::uint32_t s0 = ps.first_sphere[b];
-    w.sums.own[s0] = {.force = saved.force[b], .torque = saved.torque[b], .cdt = saved.rolling_resistance[b]};
+    w.sums.element[s0] = {.force = saved.force[b], .torque = saved.torque[b], .cdt = saved.rolling_resistance[b]};
   }
 }
 
@@ -165,11 +169,12 @@ void put_saved_forces(engine::World& w, const ParticleSystem::SavedForces& saved
 //   the scratch of a step: version 2 leaves them out. Version 3 holds the bodies' last forces
 //   (in the first elements' own sums) and no longer the elements' displacements since the
 //   build. Version 4 indexes the part candidates' history slots, which were max_part_touches
-//   each before.
+//   each before. Version 5 keeps one sums array per element (the bodies' totals in their first
+//   elements' entries) instead of the elements' own sums and their sums as second element.
 // - engine.particles: version 1 held each body's principal moments and each element's centre,
 //   which version 2 leaves to the particle types (version 1 still loads, if they agree);
 //   version 3 leaves each body's mass to its type and its last forces to the contact sums.
-constexpr std::uint32_t parts_version = 1, particles_version = 3, neighbors_version = 4, contacts_version = 4,
+constexpr std::uint32_t parts_version = 1, particles_version = 3, neighbors_version = 4, contacts_version = 5,
                         diagnostics_version = 1;
 
 void Simulation::save_state(io::BinaryWriter& out) const {
@@ -223,8 +228,10 @@ void Simulation::load_state(const io::SectionTable& in) {
       s.body.get(force), s.body.get(torque), s.body.get(cdt);
     }
     std::vector<double> moved2;
+    std::vector<engine::ElementSums> second_sums;
     each_saved_member(
-        w, [&](auto& m) { get_member(s.body, m); }, s.version < 3 ? &moved2 : nullptr, s.version >= 4);
+        w, [&](auto& m) { get_member(s.body, m); }, s.version < 3 ? &moved2 : nullptr, s.version >= 4,
+        s.version < 5 ? &second_sums : nullptr);
     io::SectionTable::expect_end(s.body, "engine.contacts");
     check_history_slots(w, s.version >= 4);
     put_saved_forces(w, saved);

@@ -47,28 +47,48 @@ void compute_contacts(World& w);
 /// Each part's force, torque and touches from its candidates' reactions, summed in fixed
 /// blocks; the sphere-part force sums into `d`.
 void sum_part_reactions(PartCandidates& candidates, std::span<Part> parts, StepDiagnostics& d);
-/// Each body's force (gravity included), torque and rolling resistance from its elements'
-/// sums, in a fixed order, into its first element's own sums (body_force); the
-/// second-element sums are zeroed for the next step.
+/// A body's totals (ContactSums::element) in a fixed order: its weight [N], then element by
+/// element its own sums (`own(s)`) and its sums as second element (`second(s)`) over its
+/// elements [s0, s0 + n). The contact stage (for the bodies it finishes) and the gather (for
+/// the deferred ones) both take them here, so they are the same bits for any thread count.
+template <class Own, class Second>
+ElementSums body_totals(const Vec3& weight, std::uint32_t s0, std::uint32_t n, Own&& own, Second&& second) {
+  Vec3 f = weight, t;
+  double cdt = 0.0;
+  for (std::uint32_t s = s0; s < s0 + n; ++s) {
+    const ElementSums& o = own(s);
+    f += o.force;
+    t += o.torque;
+    cdt += o.cdt;
+    const ElementSums as_second = second(s);
+    f += as_second.force;
+    t += as_second.torque;
+    cdt += as_second.cdt;
+  }
+  return {.force = f, .torque = t, .cdt = cdt};
+}
+/// The totals of the bodies that the contact stage left to it (ContactSums::deferred), from
+/// their elements' own sums and their shares as second element (summed from the pair slots
+/// where the contact stage did not), into their first elements' entries (body_force).
 void gather(const ParticleSystem& ps, ContactSums& sums, const Vec3& gravity);
 /// Body b's total force of the last step [N], torque about its centre of mass [N m] and CDT
-/// rolling resistance [N m], as the gather left them (until the next contact stage). The
-/// steps read them directly; between steps, Simulation::body_force gives zero for a body
-/// added since the last step (whose element has no sums yet).
+/// rolling resistance [N m], as the contact stage and the gather left them (until the next
+/// contact stage). The steps read them directly; between steps, Simulation::body_force gives
+/// zero for a body added since the last step (whose element has no sums yet).
 inline const Vec3& body_force(const ParticleSystem& ps, const ContactSums& sums, std::size_t b) {
-  return sums.own[ps.first_sphere[b]].force;
+  return sums.element[ps.first_sphere[b]].force;
 }
 inline const Vec3& body_torque(const ParticleSystem& ps, const ContactSums& sums, std::size_t b) {
-  return sums.own[ps.first_sphere[b]].torque;
+  return sums.element[ps.first_sphere[b]].torque;
 }
 inline double body_rolling_resistance(const ParticleSystem& ps, const ContactSums& sums, std::size_t b) {
-  return sums.own[ps.first_sphere[b]].cdt;
+  return sums.element[ps.first_sphere[b]].cdt;
 }
 /// Whether body b has sums (it existed at the last step's start).
 inline bool has_sums(const ParticleSystem& ps, const ContactSums& sums, std::size_t b) {
-  return ps.first_sphere[b] < sums.own.size();
+  return ps.first_sphere[b] < sums.element.size();
 }
-/// The elements' own sums (and with them the bodies' totals) reordered as the elements were
+/// The elements' sums (and with them the bodies' totals) reordered as the elements were
 /// (ParticleSystem::permute's sphere order: new index -> old), so that the totals follow
 /// their bodies.
 void permute_body_sums(ContactSums& sums, std::span<const std::uint32_t> sphere_order);

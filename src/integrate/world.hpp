@@ -42,11 +42,13 @@ struct ElementSums {
   double cdt = 0.0;  ///< CDT rolling resistance [N m]
 };
 
-/// Where the contact stage leaves its forces for the gather: per element its own sums (over
-/// its pairs as first element and its parts), and its shares as second element: where one
-/// thread computes all of an element's pairs as second, that element's sum of them, else one
-/// slot per such pair, which the gather sums. The gather leaves each body's totals in its
-/// first element's own sums (body_force in stages.hpp).
+/// Where the contact stage leaves its forces: per element the sum of its shares as second
+/// element (where one thread computes all of an element's pairs as second; else one slot per
+/// such pair, which the gather sums), and each body's totals in its first element's entry
+/// (body_force in stages.hpp). An element's own sums (over its pairs as first element and its
+/// parts) live only in the chunk's scratch: a body whose elements lie in one chunk and take
+/// all their shares as second from that chunk's thread gets its totals at the chunk's end;
+/// the others' own sums are kept (deferred) for the gather.
 struct ContactSums {
   // slots: the reaction on a second element that is not summed directly, one per pair it is
   // second of (scratch of one step: written for the touching pairs, read for those alone)
@@ -58,12 +60,16 @@ struct ContactSums {
   std::vector<std::uint32_t> slot_pair;   ///< [slot]: its pair; an element's slots in pair order
   std::vector<std::uint8_t> pair_active;  ///< [p]: 1 while the pair touches (or may: a fresh list)
   std::size_t active_build = 0;           ///< neighbour-list build the flags belong to
-  // per element: its own sums; after the gather, a body's first element holds the body's totals
-  std::vector<ElementSums> own;
   // per element: the sum of its shares as second element, in pair order, kept by the contact
-  // stage where second_direct (else summed from the pair slots by the gather); zero between steps
-  std::vector<ElementSums> second;
+  // stage where second_direct (zeroed at its start); after the step, a body's first element
+  // holds the body's totals (the others' entries are scratch)
+  std::vector<ElementSums> element;
   std::vector<std::uint8_t> second_direct;
+  // the elements whose bodies are not finished in their chunk, ascending, their own sums (for
+  // the gather), and per chunk k the first of them at or after chunk_start[k]
+  std::vector<std::uint32_t> deferred;
+  std::vector<ElementSums> deferred_own;
+  std::vector<std::uint32_t> chunk_deferred;
   std::size_t direct_build = 0;            ///< neighbour-list build that second_direct and the slots are for
   int direct_team = 0;                     ///< and the team size (0: to be found again)
   std::vector<std::uint32_t> chunk_start;  ///< elements split into chunks: [chunk_start[k], chunk_start[k + 1])
