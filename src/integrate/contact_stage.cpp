@@ -111,7 +111,8 @@ struct PairLanes {
 struct Workspace {
   PairLanes pairs;
   PartLanes parts;
-  std::vector<ElementSums> own;  // the chunk's elements' own sums
+  std::vector<ElementSums> own;    // the chunk's elements' own sums
+  std::vector<ElementSums> carry;  // those of a body that goes on in the thread's next chunk, from its first
 };
 
 // Everything the contact stage reads and writes, as plain views. Each chunk works on its own
@@ -124,7 +125,7 @@ struct ContactViews {
   // types [species of an element = body_type of its owner]
   std::span<const double> type_mass;
   std::span<const Vec3> type_inertia, type_inverse_inertia;
-  std::span<const std::uint32_t> sphere_count;
+  std::span<const std::uint32_t> sphere_count, first_sphere;
   // sphere elements [s]
   std::span<const Vec3> x_el;
   std::span<const double> radius;
@@ -461,20 +462,29 @@ template <class Rolling>
 }
 
 // The end of chunk k, elements [e0, e1): the totals of the bodies it finishes, in the
-// gather's order (body_totals); the deferred elements' own sums are kept for the gather.
-void finish_bodies(const ContactViews& v, std::size_t k, std::uint32_t e0, std::uint32_t e1) {
+// gather's order (body_totals); a body that goes on in the next chunk (the same thread's)
+// keeps its own sums so far in the workspace; the deferred elements' own sums are kept for
+// the gather.
+void finish_bodies(const ContactViews& v, std::size_t k, std::uint32_t e0, std::uint32_t e1, Workspace& work) {
   std::size_t d = v.chunk_deferred[k];
-  const auto own = [&v](std::uint32_t s) -> const ElementSums& { return v.own[s - v.e0]; };
+  std::uint32_t s0 = 0;  // the body's first element
+  const auto own = [&](std::uint32_t s) -> const ElementSums& { return s < e0 ? work.carry[s - s0] : v.own[s - e0]; };
   const auto second = [&v](std::uint32_t s) { return v.element[s]; };
   for (std::uint32_t s = e0; s < e1;) {
     if (d < v.chunk_deferred[k + 1] && v.deferred[d] == s) {
-      v.deferred_own[d++] = own(s);
+      v.deferred_own[d++] = v.own[s - e0];
       ++s;
       continue;
     }
-    const std::uint32_t n = v.sphere_count[v.owner[s]];  // (s is the body's first element)
-    v.element[s] = body_totals(v.type_mass[v.species[s]] * v.gravity, s, n, own, second);
-    s += n;
+    const std::uint32_t b = v.owner[s], n = v.sphere_count[b];
+    s0 = v.first_sphere[b];  // (before e0: carried in from the last chunk)
+    if (s0 + n > e1) {
+      if (s0 >= e0) work.carry.clear();
+      work.carry.insert(work.carry.end(), v.own.begin() + (std::max(s0, e0) - e0), v.own.begin() + (e1 - e0));
+      break;
+    }
+    v.element[s0] = body_totals(v.type_mass[v.species[s0]] * v.gravity, s0, n, own, second);
+    s = s0 + n;
   }
 }
 
@@ -496,7 +506,7 @@ ChunkResult contact_chunk(const ContactViews& views, std::size_t k, std::uint32_
     r.max_ratio = std::max(r.max_ratio, visit_part<Rolling>(v, cw, lanes));
   }
   finish_parts<Rolling>(v, lanes);
-  finish_bodies(v, k, e0, e1);
+  finish_bodies(v, k, e0, e1, work);
   return r;
 }
 
@@ -504,21 +514,20 @@ ChunkResult contact_chunk(const ContactViews& views, std::size_t k, std::uint32_
 // thread computes all its pairs as second: that thread meets them in pair order. The others
 // (none at one thread; at more, those whose pairs as second fall to two threads, a few near
 // the blocks' ends) get a slot per such pair, listed in pair order.
-// Which bodies the contact stage finishes at their chunk's end: those whose elements lie in
-// one chunk and take all their shares as second from that chunk's thread, which has summed
-// them by then (a pair's first element comes before its second, and a thread takes its chunks
-// in order). The elements of the others are deferred to the gather.
+// Which bodies the contact stage finishes at the end of their last element's chunk: those
+// whose elements all lie in one thread's chunks and take all their shares as second from that
+// thread, which has summed them by then (a pair's first element comes before its second, and
+// a thread takes its chunks in order). The elements of the others are deferred to the gather.
 void defer_bodies(ContactSums& sums, const ParticleSystem& ps, std::span<const int> thread_of,
                   std::span<const int> thread_as_second) {
   const std::vector<std::uint32_t>& chunk_start = sums.chunk_start;
   sums.deferred.clear();
-  std::size_t k = 0;  // the chunk of the body's first element
   for (std::uint32_t s0 = 0; s0 < ps.spheres();) {
     const std::uint32_t s1 = s0 + ps.sphere_count[ps.owner[s0]];
-    while (chunk_start[k + 1] <= s0) ++k;
-    bool finished = s1 <= chunk_start[k + 1];
+    bool finished = true;
     for (std::uint32_t s = s0; s < s1; ++s) {
-      finished &= sums.second_direct[s] && (thread_as_second[s] < 0 || thread_as_second[s] == thread_of[s]);
+      finished &= thread_of[s] == thread_of[s0] && sums.second_direct[s] &&
+                  (thread_as_second[s] < 0 || thread_as_second[s] == thread_of[s]);
     }
     for (std::uint32_t s = s0; s < s1 && !finished; ++s) sums.deferred.push_back(s);
     s0 = s1;
@@ -587,6 +596,7 @@ ContactViews views_of(World& w) {
           .type_inertia = ps.type_inertia(),
           .type_inverse_inertia = ps.type_inverse_inertia(),
           .sphere_count = ps.sphere_count,
+          .first_sphere = ps.first_sphere,
           .x_el = ps.sphere_position,
           .radius = ps.radius,
           .owner = ps.owner,

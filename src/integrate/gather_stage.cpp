@@ -66,12 +66,17 @@ void gather(const ParticleSystem& ps, ContactSums& sums, const Vec3& gravity) {
     }
     return from_slots;
   };
+  // Each body once, from the entry of its first element (a body's deferred elements are all of
+  // its elements, in order).
   const std::span<const std::uint32_t> deferred = sums.deferred;
-  for (std::size_t k = 0; k < deferred.size();) {
-    const std::uint32_t s0 = deferred[k], b = ps.owner[s0], n = ps.sphere_count[b];
+  const auto nd = static_cast<std::ptrdiff_t>(deferred.size());
+#pragma omp parallel for schedule(static) if (nd > parallel_threshold / 4)
+  for (std::ptrdiff_t sk = 0; sk < nd; ++sk) {
+    const auto k = static_cast<std::size_t>(sk);
+    const std::uint32_t s0 = deferred[k], b = ps.owner[s0];
+    if (s0 != ps.first_sphere[b]) continue;
     const auto own = [&sums, k, s0](std::uint32_t s) -> const ElementSums& { return sums.deferred_own[k + s - s0]; };
-    sums.element[s0] = body_totals(ps.mass(b) * gravity, s0, n, own, second);
-    k += n;
+    sums.element[s0] = body_totals(ps.mass(b) * gravity, s0, ps.sphere_count[b], own, second);
   }
 }
 
