@@ -467,11 +467,13 @@ template <class Rolling>
 // the gather.
 void finish_bodies(const ContactViews& v, std::size_t k, std::uint32_t e0, std::uint32_t e1, Workspace& work) {
   std::size_t d = v.chunk_deferred[k];
-  std::uint32_t s0 = 0;  // the body's first element
-  const auto own = [&](std::uint32_t s) -> const ElementSums& { return s < e0 ? work.carry[s - s0] : v.own[s - e0]; };
-  const auto second = [&v](std::uint32_t s) { return v.element[s]; };
+  const std::size_t d_end = v.chunk_deferred[k + 1];
+  std::uint32_t s0 = 0;               // the body's first element
+  const ElementSums* from = nullptr;  // its own sums, from its first element's
+  const auto own = [&from, &s0](std::uint32_t s) -> const ElementSums& { return from[s - s0]; };
+  const auto second = [&v](std::uint32_t s) -> const ElementSums& { return v.element[s]; };
   for (std::uint32_t s = e0; s < e1;) {
-    if (d < v.chunk_deferred[k + 1] && v.deferred[d] == s) {
+    if (d < d_end && v.deferred[d] == s) {
       v.deferred_own[d++] = v.own[s - e0];
       ++s;
       continue;
@@ -480,10 +482,16 @@ void finish_bodies(const ContactViews& v, std::size_t k, std::uint32_t e0, std::
     s0 = v.first_sphere[b];  // (before e0: carried in from the last chunk)
     if (s0 + n > e1) {
       if (s0 >= e0) work.carry.clear();
-      work.carry.insert(work.carry.end(), v.own.begin() + (std::max(s0, e0) - e0), v.own.begin() + (e1 - e0));
+      work.carry.insert(work.carry.end(), v.own.begin() + (std::max(s0, e0) - e0), v.own.end());
       break;
     }
-    v.element[s0] = body_totals(v.type_mass[v.species[s0]] * v.gravity, s0, n, own, second);
+    if (s0 < e0) {
+      work.carry.insert(work.carry.end(), v.own.begin(), v.own.begin() + (s0 + n - e0));
+      from = work.carry.data();
+    } else {
+      from = v.own.data() + (s0 - e0);
+    }
+    put_totals(v.element, s0, n, body_totals(v.type_mass[v.species[s0]] * v.gravity, s0, n, own, second));
     s = s0 + n;
   }
 }
@@ -657,10 +665,11 @@ void contacts(World& w) {
 #ifdef BUSHEL_HAVE_OPENMP
     team = omp_get_num_threads(), me = omp_get_thread_num();
 #endif
-    // The shares as second element are summed from zero (the last step's totals are read).
-    const auto n_s = static_cast<std::ptrdiff_t>(sums.element.size());
+    // The shares as second element are summed from zero: the last step's totals (the bodies'
+    // first elements' entries, the others are zero: put_totals) have been read.
+    const auto nb = static_cast<std::ptrdiff_t>(w.particles.bodies());
 #pragma omp for schedule(static) nowait
-    for (std::ptrdiff_t s = 0; s < n_s; ++s) sums.element[static_cast<std::size_t>(s)] = ElementSums{};
+    for (std::ptrdiff_t b = 0; b < nb; ++b) sums.element[w.particles.first_sphere[static_cast<std::size_t>(b)]] = {};
       // Each thread takes a block of chunks (ThreadShares), which mark_direct_seconds knows.
 #pragma omp single
     {

@@ -76,7 +76,8 @@ void gather(const ParticleSystem& ps, ContactSums& sums, const Vec3& gravity) {
     const std::uint32_t s0 = deferred[k], b = ps.owner[s0];
     if (s0 != ps.first_sphere[b]) continue;
     const auto own = [&sums, k, s0](std::uint32_t s) -> const ElementSums& { return sums.deferred_own[k + s - s0]; };
-    sums.element[s0] = body_totals(ps.mass(b) * gravity, s0, ps.sphere_count[b], own, second);
+    const std::uint32_t n = ps.sphere_count[b];
+    put_totals(sums.element, s0, n, body_totals(ps.mass(b) * gravity, s0, n, own, second));
   }
 }
 

@@ -158,6 +158,19 @@ void put_saved_forces(engine::World& w, const ParticleSystem::SavedForces& saved
   }
 }
 
+// Between steps only a body's first element's entry of the sums is not zero (put_totals);
+// before version 5 the others held the elements' own sums.
+void clear_other_elements(engine::World& w) {
+  const ParticleSystem& ps = w.particles;
+  std::vector<engine::ElementSums>& element = w.sums.element;
+  for (std::size_t b = 0; b < ps.bodies(); ++b) {
+    const std::size_t s0 = ps.first_sphere[b], s1 = std::min<std::size_t>(s0 + ps.sphere_count[b], element.size());
+    if (s0 < s1)
+      std::fill(element.begin() + static_cast<std::ptrdiff_t>(s0) + 1,
+                element.begin() + static_cast<std::ptrdiff_t>(s1), engine::ElementSums{});
+  }
+}
+
 }  // namespace
 
 // The engine's sections of a checkpoint and their versions: each is written and read here by
@@ -235,6 +248,7 @@ void Simulation::load_state(const io::SectionTable& in) {
     io::SectionTable::expect_end(s.body, "engine.contacts");
     check_history_slots(w, s.version >= 4);
     put_saved_forces(w, saved);
+    clear_other_elements(w);
     w.sums.direct_team = 0;  // (the slots are found again at the first step)
   }
   // Without its diagnostics a state still continues (the unbalanced force ratio is unknown

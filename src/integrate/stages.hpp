@@ -14,6 +14,7 @@
 // so the results are the same bits for any thread count. Another backend (GPU, MPI domains)
 // would implement the same stages over the same arrays.
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -60,12 +61,19 @@ ElementSums body_totals(const Vec3& weight, std::uint32_t s0, std::uint32_t n, O
     f += o.force;
     t += o.torque;
     cdt += o.cdt;
-    const ElementSums as_second = second(s);
+    const ElementSums& as_second = second(s);  // (a temporary where second gives a value)
     f += as_second.force;
     t += as_second.torque;
     cdt += as_second.cdt;
   }
   return {.force = f, .torque = t, .cdt = cdt};
+}
+/// A body's totals into its first element's entry, and its other elements' entries (their
+/// shares as second, now read) back to zero: between steps only the first elements' entries
+/// are not zero, and only those need zeroing before the next contact stage.
+inline void put_totals(std::span<ElementSums> element, std::uint32_t s0, std::uint32_t n, const ElementSums& totals) {
+  element[s0] = totals;
+  std::fill(element.begin() + s0 + 1, element.begin() + s0 + n, ElementSums{});
 }
 /// The totals of the bodies that the contact stage left to it (ContactSums::deferred), from
 /// their elements' own sums and their shares as second element (summed from the pair slots

@@ -61,8 +61,8 @@ struct ContactSums {
   std::vector<std::uint8_t> pair_active;  ///< [p]: 1 while the pair touches (or may: a fresh list)
   std::size_t active_build = 0;           ///< neighbour-list build the flags belong to
   // per element: the sum of its shares as second element, in pair order, kept by the contact
-  // stage where second_direct (zeroed at its start); after the step, a body's first element
-  // holds the body's totals (the others' entries are scratch)
+  // stage where second_direct (from zero); after the step, a body's first element holds the
+  // body's totals and the other elements' entries are zero (put_totals in stages.hpp)
   std::vector<ElementSums> element;
   std::vector<std::uint8_t> second_direct;
   // the elements whose bodies are not finished in their chunk, ascending, their own sums (for
