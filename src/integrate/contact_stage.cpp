@@ -518,10 +518,6 @@ ChunkResult contact_chunk(const ContactViews& views, std::size_t k, std::uint32_
   return r;
 }
 
-// An element's shares as second element may be summed by the contact stage itself when one
-// thread computes all its pairs as second: that thread meets them in pair order. The others
-// (none at one thread; at more, those whose pairs as second fall to two threads, a few near
-// the blocks' ends) get a slot per such pair, listed in pair order.
 // Which bodies the contact stage finishes at the end of their last element's chunk: those
 // whose elements all lie in one thread's chunks and take all their shares as second from that
 // thread, which has summed them by then (a pair's first element comes before its second, and
@@ -548,6 +544,10 @@ void defer_bodies(ContactSums& sums, const ParticleSystem& ps, std::span<const i
   }
 }
 
+// An element's shares as second element may be summed by the contact stage itself when one
+// thread computes all its pairs as second: that thread meets them in pair order. The others
+// (none at one thread; at more, those whose pairs as second fall to two threads, a few near
+// the blocks' ends) get a slot per such pair, listed in pair order.
 void mark_direct_seconds(ContactSums& sums, const NeighborList& neighbors, const ParticleSystem& ps, int team) {
   const std::size_t n_s = ps.spheres();
   const auto split = sums.shares.bounds();
@@ -669,8 +669,10 @@ void contacts(World& w) {
     // first elements' entries, the others are zero: put_totals) have been read.
     const auto nb = static_cast<std::ptrdiff_t>(w.particles.bodies());
 #pragma omp for schedule(static) nowait
-    for (std::ptrdiff_t b = 0; b < nb; ++b) sums.element[w.particles.first_sphere[static_cast<std::size_t>(b)]] = {};
-      // Each thread takes a block of chunks (ThreadShares), which mark_direct_seconds knows.
+    for (std::ptrdiff_t b = 0; b < nb; ++b) {
+      sums.element[w.particles.first_sphere[static_cast<std::size_t>(b)]] = {};
+    }
+    // Each thread takes a block of chunks (ThreadShares), which mark_direct_seconds knows.
 #pragma omp single
     {
       const bool split = sums.shares.split(n_chunks, team);
