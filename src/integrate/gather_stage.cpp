@@ -51,7 +51,7 @@ void sum_part_reactions(PartCandidates& pc, std::span<Part> parts, StepDiagnosti
 
 void gather(const ParticleSystem& ps, ContactSums& sums, const Vec3& gravity) {
   // The contact stage finished most bodies at its chunks' ends; the deferred ones (a body
-  // across two chunks, or whose elements take shares as second from another thread) are
+  // across two threads' chunks, or whose elements take shares as second from another thread) are
   // taken here from their elements' kept own sums, in the same order. An element's shares as
   // second are its entry where the contact stage summed them directly, else its pair slots
   // summed in pair order.

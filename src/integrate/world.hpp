@@ -46,9 +46,9 @@ struct ElementSums {
 /// element (where one thread computes all of an element's pairs as second; else one slot per
 /// such pair, which the gather sums), and each body's totals in its first element's entry
 /// (body_force in stages.hpp). An element's own sums (over its pairs as first element and its
-/// parts) live only in the chunk's scratch: a body whose elements lie in one chunk and take
-/// all their shares as second from that chunk's thread gets its totals at the chunk's end;
-/// the others' own sums are kept (deferred) for the gather.
+/// parts) live only in the chunk's scratch: a body whose elements lie in one thread's chunks
+/// and take all their shares as second from that thread gets its totals at the end of its
+/// last element's chunk; the others' own sums are kept (deferred) for the gather.
 struct ContactSums {
   // slots: the reaction on a second element that is not summed directly, one per pair it is
   // second of (scratch of one step: written for the touching pairs, read for those alone)
