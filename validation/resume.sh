@@ -7,11 +7,40 @@ run_finished() { grep -qs '"interrupted": false' "$1/summary.json"; }
 # The status run_or_resume returns for a run that another script is running now.
 run_busy=75
 
+# The sources of the engine build: a change to any of them may change a run's bits.
+engine_sources=(src include apps data cmake CMakeLists.txt CMakePresets.json)
+
+# checkpoint_build DIR: the build that wrote DIR/checkpoint.bin, as `bushel --version` names a
+# build ("0.1.0 (commit 0123456789ab)", ", uncommitted changes" inside the brackets if so): the
+# checkpoint's first section holds it as text.
+checkpoint_build() {
+  head -c 4096 "$1/checkpoint.bin" | grep -a -o -m1 '[0-9][0-9.]* (commit [0-9a-f]*[^)]*)' || echo unknown
+}
+
+# this_build: the build of $bushel, named the same way.
+this_build() { "$bushel" --version | sed 's/^bushel //'; }
+
+# same_engine BUILD_A BUILD_B: both builds were compiled from committed trees whose engine
+# sources are the same (git diff), so a run continued by one from the other's checkpoint ends
+# with the bits it would have had.
+same_engine() {
+  [[ "$1" != *uncommitted* && "$2" != *uncommitted* ]] || return 1
+  local a b
+  a=$(sed -n 's/.*commit \([0-9a-f]*\).*/\1/p' <<< "$1")
+  b=$(sed -n 's/.*commit \([0-9a-f]*\).*/\1/p' <<< "$2")
+  [ -n "$a" ] && [ -n "$b" ] || return 1
+  [ "$a" = "$b" ] && return 0
+  git -C "$root" diff --quiet "$a" "$b" -- "${engine_sources[@]}" 2>/dev/null
+}
+
 # run_or_resume LABEL DIR SCENARIO [ARGS...]
 #   DIR holds a finished run (summary.json, not interrupted): it is kept.
 #   DIR is being run by another script (on this checkout): left to it; returns $run_busy.
 #   DIR holds a checkpoint: the run continues from it (bushel run --restart DIR), with the
-#     ARGS other than `--set X` (the scenario and its overrides are in the checkpoint).
+#     ARGS other than `--set X` (the scenario and its overrides are in the checkpoint). With
+#     ONE_BUILD=1, a checkpoint written by a build whose engine sources differ from $bushel's
+#     (same_engine) is not continued: the run starts again, so that one engine build runs it
+#     all (SAME_BITS=1 continues it anyway, where bench/ab-restart showed the same bits).
 #   Else: bushel run SCENARIO --out DIR ARGS...
 # Returns bushel's exit status; what it does goes to stderr, prefixed by LABEL.
 # Two scripts may share a list of runs (two workers, one thread each): the lock on DIR.lock
@@ -29,6 +58,11 @@ run_or_resume() {
   fi
   if run_finished "$dir"; then  # (after the lock: the other script may just have finished it)
     echo "$label: finished before, kept ($dir)" >&2
+  elif [ -f "$dir/checkpoint.bin" ] && [ "${ONE_BUILD:-0}" = 1 ] && [ "${SAME_BITS:-0}" != 1 ] \
+      && ! same_engine "$(checkpoint_build "$dir")" "$(this_build)"; then
+    echo "$label: its checkpoint was written by $(checkpoint_build "$dir"), whose engine differs from" \
+      "$(this_build)'s: starting it again ($dir)" >&2
+    "$bushel" run "$scenario" --out "$dir" --overwrite "$@" || rc=$?
   elif [ -f "$dir/checkpoint.bin" ]; then
     local options=()
     while [ $# -gt 0 ]; do
@@ -42,4 +76,39 @@ run_or_resume() {
   fi
   exec {lock}>&-
   return "$rc"
+}
+
+# park_run DIR KEPT: DIR's checkpoint and time series up to it, xz-compressed, into KEPT, so
+# that the run can continue on another checkout (unpark_run). The checkpoint first: the series
+# only grows, so it covers the checkpoint even if the run writes a newer one in between (the
+# continued run cuts it back to the checkpoint's length).
+park_run() {
+  local dir="$1" kept="$2"
+  mkdir -p "$kept"
+  xz -T1 -c "$dir/checkpoint.bin" > "$kept/checkpoint.bin.xz.tmp"
+  xz -T1 -c "$dir/timeseries.csv" > "$kept/timeseries.csv.xz.tmp"
+  mv "$kept/checkpoint.bin.xz.tmp" "$kept/checkpoint.bin.xz"
+  mv "$kept/timeseries.csv.xz.tmp" "$kept/timeseries.csv.xz"
+}
+
+# unpark_run LABEL DIR KEPT: a run with no checkpoint in DIR but one parked in KEPT continues
+# from that.
+unpark_run() {
+  local label="$1" dir="$2" kept="$3"
+  if [ -f "$dir/checkpoint.bin" ] || [ ! -f "$kept/checkpoint.bin.xz" ]; then return; fi
+  mkdir -p "$dir"
+  xz -dc "$kept/timeseries.csv.xz" > "$dir/timeseries.csv"
+  xz -dc "$kept/checkpoint.bin.xz" > "$dir/checkpoint.bin.tmp"
+  mv "$dir/checkpoint.bin.tmp" "$dir/checkpoint.bin"
+  echo "$label: continuing from the checkpoint parked in $kept" >&2
+}
+
+# keep_run DIR KEPT: a finished run's summary.json into KEPT (committed with the results), and
+# its parked checkpoint gone.
+keep_run() {
+  local dir="$1" kept="$2"
+  mkdir -p "$kept"
+  cp "$dir/summary.json" "$kept/summary.json.tmp"
+  mv "$kept/summary.json.tmp" "$kept/summary.json"
+  rm -f "$kept/checkpoint.bin.xz" "$kept/timeseries.csv.xz"
 }

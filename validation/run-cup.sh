@@ -49,32 +49,13 @@ all=(large-5s medium-5s small-5s large-1s medium-1s small-1s)
 
 finished() { run_finished "$kept/cup-$1"; }
 
-# The checkpoint and the time series up to it, in that order: the series only grows, so it
-# covers the checkpoint even if the run writes a newer one in between (the continued run cuts
-# it back to the checkpoint's length).
 park() {
-  local c dir
+  local c
   for c in "${all[@]}"; do
-    dir="$runs/cup-$c"
-    if finished "$c" || [ ! -f "$dir/checkpoint.bin" ]; then continue; fi
-    mkdir -p "$kept/cup-$c"
-    xz -T1 -c "$dir/checkpoint.bin" > "$kept/cup-$c/checkpoint.bin.xz.tmp"
-    xz -T1 -c "$dir/timeseries.csv" > "$kept/cup-$c/timeseries.csv.xz.tmp"
-    mv "$kept/cup-$c/checkpoint.bin.xz.tmp" "$kept/cup-$c/checkpoint.bin.xz"
-    mv "$kept/cup-$c/timeseries.csv.xz.tmp" "$kept/cup-$c/timeseries.csv.xz"
+    if finished "$c" || [ ! -f "$runs/cup-$c/checkpoint.bin" ]; then continue; fi
+    park_run "$runs/cup-$c" "$kept/cup-$c"
     echo "$c: checkpoint parked in $kept/cup-$c ($(du -h "$kept/cup-$c/checkpoint.bin.xz" | cut -f1))" >&2
   done
-}
-
-# A case with no run folder here but a parked checkpoint continues from that.
-unpark() {
-  local c="$1" dir="$runs/cup-$1"
-  if [ -f "$dir/checkpoint.bin" ] || [ ! -f "$kept/cup-$c/checkpoint.bin.xz" ]; then return; fi
-  mkdir -p "$dir"
-  xz -dc "$kept/cup-$c/timeseries.csv.xz" > "$dir/timeseries.csv"
-  xz -dc "$kept/cup-$c/checkpoint.bin.xz" > "$dir/checkpoint.bin.tmp"
-  mv "$dir/checkpoint.bin.tmp" "$dir/checkpoint.bin"
-  echo "$c: continuing from the checkpoint parked in $kept/cup-$c" >&2
 }
 
 # the table of every case so far and whether large > medium > small holds (validation/cup_table.py)
@@ -94,7 +75,7 @@ for c in "${cases[@]}"; do
     echo "$c: finished before, kept ($kept/cup-$c)" >&2
     continue
   fi
-  unpark "$c"
+  unpark_run "$c" "$dir" "$kept/cup-$c"
   args=(--set parameters.frame_interval=1s)
   for s in ${sets[$c]} ${SET:-}; do
     if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
@@ -102,12 +83,7 @@ for c in "${cases[@]}"; do
   rc=0
   run_or_resume "$c" "$dir" "$root/scenarios/calibration-cup.yaml" "${args[@]}" || rc=$?
   if [ "$rc" -eq "$run_busy" ]; then continue; fi  # (another script runs it: the next case)
-  if run_finished "$dir"; then
-    mkdir -p "$kept/cup-$c"
-    cp "$dir/summary.json" "$kept/cup-$c/summary.json.tmp"
-    mv "$kept/cup-$c/summary.json.tmp" "$kept/cup-$c/summary.json"
-    rm -f "$kept/cup-$c/checkpoint.bin.xz" "$kept/cup-$c/timeseries.csv.xz"
-  fi
+  if run_finished "$dir"; then keep_run "$dir" "$kept/cup-$c"; fi
   if [ "${rc:-0}" -ne 0 ]; then
     echo "$c: stopped (exit ${rc}); run the script again to continue" >&2
     table > "$root/validation/results/cup$series.md"

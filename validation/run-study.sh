@@ -1,0 +1,162 @@
+#!/usr/bin/env bash
+# The study's drop-height, compression and tapped-density experiments at full size
+# (docs/experiments.md, docs/wheat.md): test weight per bushel of two varieties' samples at
+# three drop heights, confined compression to 138 kPa, loose and tapped density of the three
+# fractions, each with the calibrated single-sphere and 5-sphere models; and a time-step study
+# of the compression on a reduced sample.
+#
+#   validation/run-study.sh [CASE|GROUP...]   # default: every case of the groups below, in order
+#   validation/run-study.sh --list            # the cases, their scenario and overrides
+#   validation/run-study.sh --park            # keep the unfinished cases' checkpoints with the results
+#   validation/run-study.sh --table           # only write the table and the report
+#
+# Groups, in the default order (single spheres first: they are cheaper):
+#   tw-1s     test weight, KanMark and Garrison at h, 8h and 32h (h = 5.1 cm), single spheres
+#   comp-dt   compression of a reduced sample (120 g, 30 mm high, 5 spheres) with the lid's
+#             stages at 2, 5, 10 and 20 % of the critical step
+#   comp-1s   compression at full size, large kernels, single spheres; and the same with
+#             kernels ten times stiffer (how much of the compaction is overlap)
+#   tap-1s    loose and tapped density, the three fractions, single spheres
+#   tw-5s, comp-5s, tap-5s   the same with the 5-sphere model
+#   tw-extra  test weight of KanMark at 2h, 4h and 16h, single spheres
+#
+# Hours to days on 2 cores. As validation/run-cup.sh: each case runs in
+# runs/validation/study/CASE with a checkpoint every 5 minutes; run the script again and it
+# continues unfinished cases and skips finished ones; two scripts with one thread each
+# (OMP_NUM_THREADS=1) share the cases. A finished case's summary.json is kept in
+# validation/results/study-runs/CASE/ (committed); --park copies the unfinished cases'
+# checkpoints there, from where a checkout without the run folder continues them.
+#
+# One engine build per case: a checkpoint written by a build whose engine sources differ from
+# this one's is not continued; the case starts again (validation/resume.sh, same_engine;
+# SAME_BITS=1 continues it where bench/ab-restart showed the same bits). The build must be of
+# a committed tree, so that its commit names its sources. The table
+# (validation/results/study.md, validation/study_table.py) names each case's builds.
+#
+# Time steps: the single-sphere cases at the scenarios' 0.2 of the Rayleigh step, at which
+# their per-pair parameters were calibrated and the full-size single-sphere cups ran; the
+# 5-sphere cases at 0.5 of the critical step (docs/physics.md section 3), as the full-size
+# 5-sphere cups. The compression's lid stages at its own press_step (0.05 Rayleigh).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+bushel="${BUSHEL:-$root/build/release/bin/bushel}"
+runs="$root/runs/validation/study"
+kept="$root/validation/results/study-runs"
+mkdir -p "$runs" "$kept"
+source "$root/validation/resume.sh"
+export ONE_BUILD=1
+
+# The calibrated parameter sets (docs/wheat.md). Single spheres: per pair of fractions; the
+# test weight's mixtures take all three pairs, a one-fraction sample the fraction's own.
+one_large="model=1s fr_ww=0.05 fs_ww=0.172 e_ww=0.5"
+one_medium="model=1s fr_ww=0.05 fs_ww=0.486 e_ww=0.1"
+one_small="model=1s fr_ww=0.10 fs_ww=0.500 e_ww=0.1"
+one_mix="$one_large fr_wm=0.05 fs_wm=0.486 e_wm=0.1 fr_wsm=0.10 fs_wsm=0.500 e_wsm=0.1"
+five="model=5s simulation.time_step=50%critical"
+kanmark="share_large=81.5% share_medium=15.5% share_small=3%"
+garrison="share_large=21.8% share_medium=60.6% share_small=17.6%"
+declare -A drop=([1h]=5.1cm [2h]=10.2cm [4h]=20.4cm [8h]=40.8cm [16h]=81.6cm [32h]=163.2cm)
+reduced="mass=120g height=30mm fraction=large"
+
+declare -A scenario sets
+declare -A groups
+add() {  # add GROUP CASE SCENARIO OVERRIDES
+  groups[$1]+="${groups[$1]:+ }$2"
+  scenario[$2]="$3"
+  sets[$2]="$4"
+}
+for model in 1s 5s; do
+  for sample in kanmark garrison; do
+    for h in 1h 8h 32h; do
+      if [ $model = 1s ]; then m=$one_mix; else m=$five; fi
+      add "tw-$model" "tw-$sample-$model-$h" test-weight "$m ${!sample} drop=${drop[$h]}"
+    done
+  done
+  if [ $model = 1s ]; then m=$one_large; else m=$five; fi
+  add "comp-$model" "comp-large-$model" compression "fraction=large $m"
+  for fraction in large medium small; do
+    if [ $model = 1s ]; then v="one_$fraction"; m=${!v}; else m=$five; fi
+    add "tap-$model" "tap-$fraction-$model" tapped-density "fraction=$fraction $m"
+  done
+done
+add comp-1s comp-large-1s-stiff compression \
+  "fraction=large $one_large materials.wheat.shear_modulus=224MPa"
+for percent in 20 10 5 2; do  # (the cheapest first)
+  add comp-dt "comp-dt-$percent" compression "$reduced $five press_step=$percent%critical"
+done
+for h in 2h 4h 16h; do
+  add tw-extra "tw-kanmark-1s-$h" test-weight "$one_mix $kanmark drop=${drop[$h]}"
+done
+order=(tw-1s comp-dt comp-1s tap-1s tw-5s comp-5s tap-5s tw-extra)
+all=()
+for g in "${order[@]}"; do read -r -a members <<< "${groups[$g]}"; all+=("${members[@]}"); done
+
+finished() { run_finished "$kept/$1"; }
+
+park() {
+  local c
+  for c in "${all[@]}"; do
+    if finished "$c" || [ ! -f "$runs/$c/checkpoint.bin" ]; then continue; fi
+    park_run "$runs/$c" "$kept/$c"
+    echo "$c: checkpoint parked in $kept/$c ($(du -h "$kept/$c/checkpoint.bin.xz" | cut -f1))" >&2
+  done
+}
+
+# The tables of every case so far (validation/study_table.py), and the report of the finished
+# ones beside the lab values.
+table() {
+  /usr/bin/python3 "$root/validation/study_table.py" "$runs" "$kept" "$root/data/reference_values.csv" \
+    > "$root/validation/results/study.md.tmp"
+  mv "$root/validation/results/study.md.tmp" "$root/validation/results/study.md"
+}
+report() {
+  local c dirs=()
+  for c in "${all[@]}"; do
+    if finished "$c"; then dirs+=("validation/results/study-runs/$c"); fi
+  done
+  [ ${#dirs[@]} -gt 0 ] || return 0
+  (cd "$root" && "$bushel" report "${dirs[@]}" --out validation/results/study \
+    --title "The study's experiments at full size")
+}
+
+case "${1:-}" in
+  --list)
+    for c in "${all[@]}"; do printf '%-24s %-15s %s\n' "$c" "${scenario[$c]}" "${sets[$c]}"; done
+    exit 0 ;;
+  --park) park; table; exit 0 ;;
+  --table) table; report; exit 0 ;;
+esac
+if [[ "$(this_build)" == *uncommitted* ]]; then
+  echo "run-study.sh: $bushel was built with uncommitted changes; build it from a committed tree," \
+    "so that its commit names the engine that ran each case" >&2
+  exit 2
+fi
+cases=()
+for a in "${@:-${order[@]}}"; do
+  if [ -n "${groups[$a]:-}" ]; then read -r -a members <<< "${groups[$a]}"; cases+=("${members[@]}")
+  elif [ -n "${scenario[$a]:-}" ]; then cases+=("$a")
+  else echo "unknown case or group '$a' (run-study.sh --list; groups: ${order[*]})" >&2; exit 2
+  fi
+done
+
+for c in "${cases[@]}"; do
+  dir="$runs/$c"
+  if finished "$c"; then echo "$c: finished before, kept ($kept/$c)" >&2; continue; fi
+  unpark_run "$c" "$dir" "$kept/$c"
+  args=(--set parameters.frame_interval=1s)
+  for s in ${sets[$c]}; do
+    if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
+  done
+  rc=0
+  run_or_resume "$c" "$dir" "$root/scenarios/${scenario[$c]}.yaml" "${args[@]}" || rc=$?
+  if [ "$rc" -eq "$run_busy" ]; then continue; fi  # (another script runs it: the next case)
+  if run_finished "$dir"; then keep_run "$dir" "$kept/$c"; fi
+  table
+  if [ "$rc" -ne 0 ]; then
+    echo "$c: stopped (exit $rc); run the script again to continue" >&2
+    exit "$rc"
+  fi
+done
+table
+cat "$root/validation/results/study.md"
+report
