@@ -65,10 +65,10 @@ def reached(series, opener=open):
     return f"t = {float(cells[1]):.2f} s ({cells[0]})"
 
 
-def progress(runs, kept, case):
-    """The status of a case without a summary: where its run folder and its parked checkpoint
-    have got."""
-    run, parked = os.path.join(runs, "cup-" + case), os.path.join(kept, "cup-" + case)
+def progress(runs, kept, case, prefix="cup-"):
+    """The status of a case without a summary: where its run folder (RUNS/PREFIX+CASE) and its
+    parked checkpoint (KEPT/PREFIX+CASE) have got."""
+    run, parked = os.path.join(runs, prefix + case), os.path.join(kept, prefix + case)
     states = []
     if os.path.exists(os.path.join(run, "checkpoint.bin")):
         at = reached(os.path.join(run, "timeseries.csv"))

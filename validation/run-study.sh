@@ -106,7 +106,7 @@ park() {
 # ones beside the lab values.
 table() {
   /usr/bin/python3 "$root/validation/study_table.py" "$runs" "$kept" "$root/data/reference_values.csv" \
-    > "$root/validation/results/study.md.tmp"
+    "${all[@]}" > "$root/validation/results/study.md.tmp"
   mv "$root/validation/results/study.md.tmp" "$root/validation/results/study.md"
 }
 report() {

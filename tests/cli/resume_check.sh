@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # validation/resume.sh: run_or_resume starts a run, continues one from its checkpoint (its
 # --set overrides left out: the checkpoint holds them, and bushel refuses them with --restart)
-# and keeps a finished one.
+# and keeps a finished one; with ONE_BUILD=1 it starts again a run whose checkpoint another
+# engine build wrote; park_run, unpark_run and keep_run carry a run to another checkout.
 #   resume_check.sh BUSHEL SOURCE_DIR WORK_DIR
 set -euo pipefail
 bushel="$1" src="$2" work="$3"
+root="$src"
 source "$src/validation/resume.sh"
 rm -rf "$work" && mkdir -p "$work"
 cup="$src/scenarios/cup-pour.yaml"
@@ -51,6 +53,32 @@ kill "$script" && wait "$script" 2> /dev/null || true
 status=0
 run_or_resume slow "$work/slow" "$cup" 2> "$work/6.txt" || status=$?
 [ "$status" -eq "$run_busy" ] || fail "a run whose script died was not left to its bushel (status $status)"
+# the build that wrote a checkpoint, and whether two builds have the same engine
+written=$(checkpoint_build "$work/next")
+[ "$written" = "$(this_build)" ] || fail "checkpoint_build gave '$written', not '$(this_build)'"
+same_engine "0.1.0 (commit 0123abc)" "0.1.0 (commit 0123abc)" || fail "a build differs from itself"
+! same_engine "0.1.0 (commit 0123abc, uncommitted changes)" "0.1.0 (commit 0123abc, uncommitted changes)" ||
+  fail "uncommitted changes passed for the same engine"
+! same_engine "unknown" "0.1.0 (commit 0123abc)" || fail "an unknown build passed for the same engine"
+! same_engine "0.1.0 (commit ffffff0)" "0.1.0 (commit 0123abc)" || fail "commits git does not know passed"
+# parked and unparked: the same checkpoint and time series in a new folder, which continues
+park_run "$work/next" "$work/kept"
+unpark_run next "$work/moved" "$work/kept" 2> "$work/7.txt"
+grep -q "next: continuing from the checkpoint parked in" "$work/7.txt" || fail "no unpark message"
+cmp -s "$work/next/checkpoint.bin" "$work/moved/checkpoint.bin" || fail "the unparked checkpoint differs"
+cmp -s "$work/next/timeseries.csv" "$work/moved/timeseries.csv" || fail "the unparked time series differs"
+# a checkpoint that another engine build wrote (its commit changed in place): with ONE_BUILD=1
+# the run starts again; without, it would continue
+LC_ALL=C sed -i 's/(commit [0-9a-f]\{12\}/(commit fffffffffff0/' "$work/moved/checkpoint.bin"
+[[ "$(checkpoint_build "$work/moved")" == *fffffffffff0* ]] || fail "the checkpoint's build was not changed"
+ONE_BUILD=1 run_or_resume moved "$work/moved" "$cup" --quiet --stop-at 5ms "${sets[@]}" > /dev/null 2> "$work/8.txt" ||
+  fail "the run of another build did not start again: $(cat "$work/8.txt")"
+grep -q "moved: its checkpoint was written by 0.1.0 (commit fffffffffff0), whose engine differs" "$work/8.txt" ||
+  fail "no message of another build: $(cat "$work/8.txt")"
+[ "$(checkpoint_build "$work/moved")" = "$(this_build)" ] || fail "the run started again was not this build's"
+keep_run "$work/run" "$work/kept"
+cmp -s "$work/run/summary.json" "$work/kept/summary.json" || fail "keep_run did not keep the summary"
+[ ! -e "$work/kept/checkpoint.bin.xz" ] || fail "keep_run left the parked checkpoint"
 # bushel's exit status comes back
 if run_or_resume bad "$work/bad" "$cup" --quiet --set parameters.mass=-5g 2> /dev/null; then
   fail "a failed run returned 0"

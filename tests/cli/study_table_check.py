@@ -1,0 +1,158 @@
+#!/usr/bin/env python3
+"""validation/study_table.py, the tables of the study's experiments at full size, on made-up
+summaries: every row has its header's cells; kept results are read before run folders; an
+unfinished case is "not started", "running or stopped" or "parked", an interrupted one or a
+failed one does not count as finished; the checks (KanMark > Garrison, the rise with drop
+height, the rise with pressure) say "holds" or "does NOT hold" from the values and wait for
+every case; the compaction, the overlap's share of it and the time-step span are the
+arithmetic of the values; a density over a sensor the grain did not fill is marked; without
+cases the script takes every case it finds.
+
+usage: study_table_check.py STUDY_TABLE_PY REFERENCES WORKDIR
+"""
+import json
+import lzma
+import os
+import shutil
+import subprocess
+import sys
+
+script, references, work = sys.argv[1:4]
+runs, kept = os.path.join(work, "runs"), os.path.join(work, "kept")
+shutil.rmtree(work, ignore_errors=True)
+failures = []
+
+
+def summary(results, interrupted=False, failed=None, stages=()):
+    return {"engine": {"builds": ["0.1.0 (commit 0123456789ab)"]}, "interrupted": interrupted, "failed": failed,
+            "results": {k: (v if isinstance(v, dict) else {"value": v, "unit": ""}) for k, v in results.items()},
+            "factories": [{"count": 1000}], "dt_s": 5e-6, "time_step_rule": "0.5 critical", "simulated_time_s": 10.0,
+            "wall_time_s": 3600.0, "particle_steps_per_s": 2.0e6, "stages": [{"name": n, "dt_s": d} for n, d in stages]}
+
+
+def put(folder, case, s):
+    os.makedirs(os.path.join(folder, case), exist_ok=True)
+    with open(os.path.join(folder, case, "summary.json"), "w") as f:
+        json.dump(s, f)
+
+
+def test_weight(struck, unstruck=850.0):
+    return summary({"bulk_density": struck, "bulk_density_unstruck": unstruck, "fraction_large": 0.8,
+                    "fraction_medium": 0.15, "fraction_small": 0.05, "filling_time": 4.0, "heap_angle": 20.0})
+
+
+def compression(densities, **kw):
+    r = {"bulk_density_0": densities[0]}
+    for i, d in enumerate(densities[1:], 1):
+        r.update({f"bulk_density_{i}": d, f"drift_{i}": -100.0 * i, f"unbalanced_{i}": 1e-5 * i})
+    return summary(r, stages=[("hold_7", kw.get("dt", 1e-6))])
+
+
+def table(cases):
+    out = subprocess.run([sys.executable, script, runs, kept, references] + cases,
+                         check=True, capture_output=True, text=True).stdout
+    header = None
+    for line in out.splitlines():
+        if not line.startswith("|"):
+            header = None
+        elif header is None:
+            header = line.count("|")
+        elif line.count("|") != header:
+            failures.append(f"{line.count('|') - 1} cells, not {header - 1}: {line}")
+    return out
+
+
+def expect(condition, what, out):
+    if not condition:
+        failures.append(what + ":\n" + out)
+
+
+def row(out, case):
+    return next((l for l in out.splitlines() if l.startswith(f"| {case} |")), "")
+
+
+# Test weight: KanMark above Garrison at 1h, not at 8h; KanMark rises with the drop height.
+tw = ["tw-kanmark-1s-1h", "tw-kanmark-1s-8h", "tw-kanmark-1s-32h", "tw-garrison-1s-1h", "tw-garrison-1s-8h"]
+put(kept, "tw-kanmark-1s-1h", test_weight(800.0))
+put(runs, "tw-kanmark-1s-1h", test_weight(1.0))  # (the kept summary is read first)
+put(runs, "tw-kanmark-1s-8h", test_weight(805.0))
+put(runs, "tw-kanmark-1s-32h", test_weight(810.0))
+put(runs, "tw-garrison-1s-1h", test_weight(790.0))
+put(runs, "tw-garrison-1s-8h", test_weight(806.0))
+out = table(tw)
+expect("KanMark > Garrison, 1s, 1h (struck, kg/m3): holds: 800.0, 790.0" in out, "KanMark > Garrison at 1h", out)
+expect("KanMark > Garrison, 1s, 8h (struck, kg/m3): does NOT hold: 805.0, 806.0" in out, "not at 8h", out)
+expect("KanMark > Garrison, 1s, 32h" in out and "32h (struck, kg/m3): not every case has finished" in out,
+       "32h waits for Garrison", out)
+expect("rises with the drop height, kanmark 1s (1h, 8h, 32h; struck, kg/m3): holds: 800.0, 805.0, 810.0" in out,
+       "the rise with drop height", out)
+expect("| 800.0 | 62.15 |" in row(out, "tw-kanmark-1s-1h"), "kg/m3 and lb/bu (800 / 12.8719)", out)
+expect("80.0 / 15.0 / 5.0 (81.5 / 15.5 / 3.0)" in row(out, "tw-kanmark-1s-1h"), "the kettle's composition", out)
+expect("kanmark 61.84 lb/bu, garrison 59.03 lb/bu" in out, "the ideal mixtures of the lab's fractions", out)
+# an interrupted case is not finished; a run folder without a summary is running; a parked one
+put(runs, "tw-garrison-1s-8h", dict(test_weight(806.0), interrupted=True))
+os.makedirs(os.path.join(runs, "tw-garrison-1s-32h"))
+open(os.path.join(runs, "tw-garrison-1s-32h", "checkpoint.bin"), "w").close()
+with open(os.path.join(runs, "tw-garrison-1s-32h", "timeseries.csv"), "w") as f:
+    f.write("stage,time\nfill,0.5\nflow,2.25\n")
+os.makedirs(os.path.join(kept, "tw-kanmark-1s-4h"))
+open(os.path.join(kept, "tw-kanmark-1s-4h", "checkpoint.bin.xz"), "wb").close()
+with lzma.open(os.path.join(kept, "tw-kanmark-1s-4h", "timeseries.csv.xz"), "wt") as f:
+    f.write("stage,time\nsettle,1.5\n")
+out = table(tw + ["tw-garrison-1s-32h", "tw-kanmark-1s-4h", "tw-kanmark-1s-16h"])
+expect("interrupted at t = 10.00 s" in row(out, "tw-garrison-1s-8h"), "an interrupted case", out)
+expect("8h (struck, kg/m3): not every case has finished" in out, "an interrupted case is not finished", out)
+expect("running or stopped at t = 2.25 s (flow)" in row(out, "tw-garrison-1s-32h"), "a running case", out)
+expect("parked at t = 1.50 s (settle)" in row(out, "tw-kanmark-1s-4h"), "a parked case", out)
+expect("| not started |" in row(out, "tw-kanmark-1s-16h"), "a case not started", out)
+# a failed case, and a density over a sensor that was not full
+put(runs, "tw-kanmark-1s-8h", dict(test_weight(805.0), failed="particles lost"))
+put(runs, "tw-kanmark-1s-32h", test_weight({"value": 700.0, "unit": "kg/m3", "not_full": "the kettle was not full"}))
+out = table(tw)
+expect("FAILED: particles lost" in row(out, "tw-kanmark-1s-8h"), "a failed case", out)
+expect("kanmark 1s (1h, 8h, 32h; struck, kg/m3): not every case has finished" in out, "a failed case counts not", out)
+expect("| 700.0 (not full) | 54.38 (not full) |" in row(out, "tw-kanmark-1s-32h"), "not full", out)
+
+# Compression: rises with every level; the stiff kernels' compaction against the study's.
+soft = [780.0, 790.0, 800.0, 810.0, 820.0, 830.0, 845.0, 858.0]
+stiff = [770.0, 772.0, 774.0, 776.0, 778.0, 780.0, 783.0, 786.5]
+put(runs, "comp-large-1s", compression(soft))
+put(runs, "comp-large-1s-stiff", compression(stiff))
+put(runs, "comp-large-5s", compression(soft[:3] + [799.0] + soft[4:]))
+out = table(["comp-large-1s", "comp-large-1s-stiff", "comp-large-5s"])
+expect("| 10.0 | 0.70 kPa at 138 kPa | 7.0e-5 at 138 kPa |" in row(out, "comp-large-1s"),
+       "compaction (858 - 780) / 780, the largest drift and unbalanced force", out)
+expect("rises with every level, comp-large-1s: holds" in out, "the rise with pressure", out)
+expect("rises with every level, comp-large-5s: does NOT hold" in out, "a fall with pressure", out)
+expect("compact 2.1 % where the study's compact 10.0 %; about 79 % of" in out, "the overlap's share: 1 - 2.14/10", out)
+
+# The time step: the span at 138 kPa, once every case has finished.
+for percent, top in ((2, 858.0), (5, 858.5), (10, 859.2)):
+    put(runs, f"comp-dt-{percent}", compression(soft[:-1] + [top], dt=percent * 1e-7))
+dt = ["comp-dt-10", "comp-dt-2", "comp-dt-5"]
+out = table(dt + ["comp-dt-20"])
+expect("spans" not in out, "no span before every step has finished", out)
+out = table(dt)
+expect("spans 1.2 kg/m3 (0.14 %) over the steps" in out, "the span over the steps", out)
+expect("| +0.14 |" in row(out, "comp-dt-10") and "| 1.000 |" in row(out, "comp-dt-10"),
+       "against the smallest step; the lid's dt in us", out)
+lines = [l for l in out.splitlines() if l.startswith("| comp-dt-")]
+expect([l.split("|")[1].strip() for l in lines] == ["comp-dt-2", "comp-dt-5", "comp-dt-10"], "rows by step", out)
+
+# without cases: every case with a folder, by name
+out = subprocess.run([sys.executable, script, runs, kept, references], check=True, capture_output=True, text=True).stdout
+names = [l.split("|")[1].strip() for l in out.splitlines() if l.startswith("| tw-") or l.startswith("| comp-")]
+expect(names == ["tw-garrison-1s-1h", "tw-garrison-1s-32h", "tw-garrison-1s-8h", "tw-kanmark-1s-1h",
+                 "tw-kanmark-1s-32h", "tw-kanmark-1s-4h", "tw-kanmark-1s-8h", "comp-large-1s", "comp-large-1s-stiff",
+                 "comp-large-5s", "comp-dt-2", "comp-dt-5", "comp-dt-10"], "the cases found, by name", out)
+
+# Tapped density: the lab's packing ratio and compressibility of the fraction beside the run's.
+put(runs, "tap-medium-5s", summary({"loose_bulk_density": 790.0, "tapped_bulk_density": 835.0,
+                                    "packing_ratio": 835.0 / 1373, "compressibility": 45 / 835.0}))
+out = table(["tap-medium-5s"])
+expect("| 790.0 | 835.0 | 0.608 | 0.599 | 0.0539 | 0.059 |" in row(out, "tap-medium-5s"), "tapped row", out)
+
+for f in failures:
+    print("FAIL:", f)
+print(f"study table check: {len(failures)} failed")
+sys.exit(1 if failures else 0)

@@ -1,0 +1,293 @@
+#!/usr/bin/env python3
+"""The tables of the study's experiments at full size (validation/run-study.sh writes them to
+validation/results/study.md): per experiment, each case's results beside the lab values the
+project has (data/reference_values.csv), the checks the physics requires, and per case its
+engine build, wall time and particle-steps/s, or how far an unfinished case has got.
+
+usage: study_table.py RUNS KEPT REFERENCES [CASE...]
+  RUNS        the run folders (runs/validation/study): CASE/ with summary.json, or with
+              checkpoint.bin and timeseries.csv while it runs
+  KEPT        the kept results (validation/results/study-runs): CASE/summary.json of finished
+              cases, CASE/checkpoint.bin.xz and timeseries.csv.xz of parked ones; a kept
+              summary is read before the run folder's
+  REFERENCES  data/reference_values.csv
+  CASE        tw-SAMPLE-MODEL-DROP (test weight), comp-FRACTION-MODEL[-stiff] (compression),
+              comp-dt-PERCENT (its time step), tap-FRACTION-MODEL (tapped density); default:
+              every case with a folder in RUNS or KEPT, by name
+"""
+import csv
+import json
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cup_table import engine, exponent, fmt, progress  # noqa: E402
+
+LB_PER_BU = 12.8719  # kg/m3 per lb/bu (docs/wheat.md)
+FRACTIONS = ("large", "medium", "small")
+SAMPLES = {"kanmark": (0.815, 0.155, 0.030), "garrison": (0.218, 0.606, 0.176)}  # by mass (docs/wheat.md)
+LEVELS = (0, 7, 21, 34, 48, 69, 103, 138)  # kPa, compression.yaml's p1 .. p7
+DROPS = ("1h", "2h", "4h", "8h", "16h", "32h")  # h = 5.1 cm
+
+
+def references(path):
+    """The lab's test weight at h of each pure fraction [lb/bu], and its packing ratio and
+    compressibility of each fraction (tapped density)."""
+    with open(path) as f:
+        rows = list(csv.DictReader(l for l in f if not l.startswith("#")))
+    test_weight, tapped = {}, {}
+    for r in rows:
+        if r["scenario"] == "test-weight" and r["result"] == "bulk_density":
+            shares = [r["share_" + f] for f in FRACTIONS]
+            test_weight[FRACTIONS[shares.index("100%")]] = float(r["value"])
+        elif r["scenario"] == "tapped-density":
+            tapped[(r["fraction"], r["result"])] = float(r["value"])
+    return test_weight, tapped
+
+
+def ideal_mixture(test_weight, shares):
+    """The test weight of a mixture whose fractions keep their own packing [lb/bu]: their
+    specific volumes added by mass. Small kernels that fill the large ones' voids make a real
+    mixture denser than this."""
+    return 1 / sum(s / test_weight[f] for f, s in zip(FRACTIONS, shares))
+
+
+class Case:
+    """One case's summary, or its progress where it has none."""
+
+    def __init__(self, runs, kept, name):
+        self.name, self.j = name, None
+        for folder in (kept, runs):
+            path = os.path.join(folder, name, "summary.json")
+            if os.path.exists(path):
+                with open(path) as f:
+                    self.j = json.load(f)
+                break
+        if self.j is None:
+            self.status = progress(runs, kept, name, prefix="")
+        elif self.j.get("failed"):
+            self.status = "FAILED: " + self.j["failed"]
+        elif self.j["interrupted"]:
+            self.status = "interrupted at t = %.2f s" % self.j["simulated_time_s"]
+        else:
+            self.status = "done"
+
+    @property
+    def done(self):
+        return self.status == "done"
+
+    def result(self, key):
+        """A result's value (SI), or None."""
+        if self.j is None:
+            return None
+        return (self.j["results"].get(key) or {}).get("value")
+
+    def cell(self, key, spec, scale=1):
+        """A result formatted for the table, 'not full' beside a density over a sensor the grain
+        did not fill (the run's warning says by how much)."""
+        value = self.result(key)
+        if value is None:
+            return ""
+        not_full = (self.j["results"][key] or {}).get("not_full")
+        return format(value * scale, spec) + (" (not full)" if not_full else "")
+
+    def stage_dt(self, stage):
+        """The time step of a stage [s], or None."""
+        for s in (self.j or {}).get("stages", []):
+            if s["name"] == stage:
+                return s.get("dt_s")
+        return None
+
+    def tail(self):
+        """The columns every table ends with: particles, time step, simulated and wall time,
+        speed, engine, status."""
+        if self.j is None:
+            return f"| | | | | | | {self.status} |"
+        j = self.j
+        count = sum(f["count"] for f in j["factories"])
+        return (f"| {count:,} | {j['dt_s'] * 1e6:.2f} ({j['time_step_rule']}) | {j['simulated_time_s']:.2f} "
+                f"| {j['wall_time_s'] / 3600:.2f} | {exponent(j['particle_steps_per_s'])} | {engine(j)} "
+                f"| {self.status} |")
+
+
+TAIL = "| particles | dt [us] (rule) | simulated [s] | wall [h] | particle-steps/s | engine | status |"
+
+
+def header(columns):
+    cells = columns + " " + TAIL
+    return [cells, "|" + "---|" * (cells.count("|") - 1)]
+
+
+def verdict(values, holds):
+    """'holds: a, b, c' / 'does NOT hold: ...' / 'not every case has finished'."""
+    if None in values:
+        return "not every case has finished"
+    return ("holds" if holds(values) else "does NOT hold") + ": " + ", ".join(f"{v:.1f}" for v in values)
+
+
+def test_weight(cases, refs):
+    lab = refs[0]
+    out = ["## Test weight per bushel (scenarios/test-weight.yaml)", "",
+           "1.1 kg of each sample falls from the drop height into the one-quart kettle, which is struck "
+           "level. The lab's test weight at h of the pure fractions: "
+           + ", ".join(f"{f} {lab[f]} lb/bu" for f in FRACTIONS) + "; a mixture whose fractions kept "
+           "their own packing would weigh "
+           + ", ".join(f"{s} {ideal_mixture(lab, SAMPLES[s]):.2f} lb/bu" for s in SAMPLES)
+           + " (their specific volumes added by mass; a real mixture packs denser).", ""]
+    out += header("| case | sample | model | drop | unstruck [kg/m3] | struck [kg/m3] | test weight [lb/bu] "
+                  "| kettle large / medium / small [%] (sample) | filling time [s] | heap angle [deg]")
+    struck = {}
+    for c in cases:
+        _, sample, model, drop = c.name.split("-")
+        shares = " / ".join(f"{100 * s:.1f}" for s in SAMPLES[sample])
+        kettle = [c.result("fraction_" + f) for f in FRACTIONS]
+        kettle = " / ".join(f"{100 * v:.1f}" for v in kettle) if None not in kettle else ""
+        bd = c.result("bulk_density")
+        if c.done:
+            struck[(sample, model, drop)] = bd
+        out.append(f"| {c.name} | {sample} | {model} | {drop} | {c.cell('bulk_density_unstruck', '.1f')} "
+                   f"| {c.cell('bulk_density', '.1f')} | {c.cell('bulk_density', '.2f', 1 / LB_PER_BU)} "
+                   f"| {kettle} ({shares}) "
+                   f"| {fmt(c.result('filling_time'), '.2f')} | {fmt(c.result('heap_angle'), '.1f')} " + c.tail())
+    out.append("")
+    models = sorted({k[1] for k in struck} | {c.name.split("-")[2] for c in cases})
+    drops = [d for d in DROPS if any(c.name.endswith("-" + d) for c in cases)]
+    for model in models:
+        for drop in drops:
+            if not any(c.name in (f"tw-{s}-{model}-{drop}" for s in SAMPLES) for c in cases):
+                continue
+            pair = [struck.get((s, model, drop)) for s in SAMPLES]
+            out.append(f"- KanMark > Garrison, {model}, {drop} (struck, kg/m3): "
+                       + verdict(pair, lambda v: v[0] > v[1]))
+        for sample in SAMPLES:
+            ladder = [struck.get((sample, model, d)) for d in drops
+                      if any(c.name == f"tw-{sample}-{model}-{d}" for c in cases)]
+            if len(ladder) > 1:
+                out.append(f"- rises with the drop height, {sample} {model} ("
+                           + ", ".join(d for d in drops if f"tw-{sample}-{model}-{d}" in [c.name for c in cases])
+                           + "; struck, kg/m3): " + verdict(ladder, lambda v: all(a < b for a, b in zip(v, v[1:]))))
+    return out
+
+
+def densities(c):
+    """The bulk density at each pressure level [kg/m3] (None where not reached)."""
+    return [c.result("bulk_density_0")] + [c.result(f"bulk_density_{i}") for i in range(1, len(LEVELS))]
+
+
+def worst(c, key):
+    """The largest |value| of key_1 .. key_7 and its level, as 'VALUE at P kPa'."""
+    values = [(abs(v), LEVELS[i]) for i in range(1, len(LEVELS)) if (v := c.result(f"{key}_{i}")) is not None]
+    if not values:
+        return ""
+    v, level = max(values)
+    return (f"{v / 1e3:.2f} kPa" if key == "drift" else exponent(v, 2)) + f" at {level} kPa"
+
+
+def compression(cases):
+    out = ["## Confined compression (scenarios/compression.yaml)", "",
+           "The 58.74 mm cylinder filled, struck and pressed by a lid to each level, held there by a servo "
+           "until quasi-static, then held still for 0.2 s (drift: the lid's pressure at the end of that "
+           "hold against the level; unbalanced: the force ratio there, quasi-static below 1e-4).", ""]
+    out += header("| case | model | " + " | ".join(f"{p} kPa" for p in LEVELS)
+                  + " | compaction 0 to 138 kPa [%] | largest drift | largest unbalanced")
+    compaction = {}
+    for c in cases:
+        rho = densities(c)
+        if c.done and rho[0] and rho[-1]:
+            compaction[c.name] = 100 * (rho[-1] - rho[0]) / rho[0]
+        model = c.name.split("-")[2]
+        cells = [c.cell("bulk_density_0", ".1f")] + [c.cell(f"bulk_density_{i}", ".1f") for i in range(1, len(LEVELS))]
+        out.append(f"| {c.name} | {model} | " + " | ".join(cells)
+                   + f" | {fmt(compaction.get(c.name), '.1f')} | {worst(c, 'drift')} | {worst(c, 'unbalanced')} "
+                   + c.tail())
+    out.append("")
+    for c in cases:
+        rho = densities(c)
+        if None not in rho:
+            out.append(f"- the bulk density rises with every level, {c.name}: "
+                       + verdict(rho, lambda v: all(a < b for a, b in zip(v, v[1:]))))
+    soft, stiff = compaction.get("comp-large-1s"), compaction.get("comp-large-1s-stiff")
+    if soft and stiff is not None:
+        out.append(f"- overlap: the kernels ten times stiffer compact {stiff:.1f} % where the study's compact "
+                   f"{soft:.1f} %; about {100 * (1 - stiff / soft):.0f} % of the study's material's compaction "
+                   "is the kernels' overlap, the rest their rearranging")
+    return out
+
+
+def time_step(cases):
+    out = ["## Time step of the compression (reduced sample)", "",
+           "120 g of large 5-sphere kernels in the cylinder cut to 30 mm, filled at 0.5 of the critical step "
+           "(the same loose sample in every case), the lid's stages at PERCENT of the critical step.", ""]
+    out += header("| case | lid's step [% critical] | lid's dt [us] | 0 kPa [kg/m3] | 138 kPa [kg/m3] "
+                  "| against the smallest step at 138 kPa [%] | unbalanced at 138 kPa")
+    finest = None
+    rows = sorted(cases, key=lambda c: int(c.name.split("-")[2]))
+    if rows[0].done:
+        finest = rows[0].result("bulk_density_7")
+    top = []
+    for c in rows:
+        rho = c.result("bulk_density_7")
+        if c.done:
+            top.append(rho)
+        diff = f"{100 * (rho - finest) / finest:+.2f}" if rho and finest else ""
+        dt = c.stage_dt("hold_7")
+        out.append(f"| {c.name} | {c.name.split('-')[2]} | {fmt(dt and dt * 1e6, '.3f')} "
+                   f"| {c.cell('bulk_density_0', '.1f')} | {c.cell('bulk_density_7', '.1f')} | {diff} "
+                   f"| {fmt(c.result('unbalanced_7') and exponent(c.result('unbalanced_7'), 2), '')} " + c.tail())
+    out.append("")
+    if len(top) == len(rows) and None not in top:
+        out.append(f"- the bulk density at 138 kPa spans {max(top) - min(top):.1f} kg/m3 "
+                   f"({100 * (max(top) - min(top)) / min(top):.2f} %) over the steps")
+    return out
+
+
+def tapped(cases, refs):
+    lab = refs[1]
+    out = ["## Loose and tapped density (scenarios/tapped-density.yaml)", "",
+           "The 400 cm3 cylinder filled through a funnel and struck (loose), topped up in an extension, "
+           "tapped 500 times (3 mm, 4.33 Hz) and struck again (tapped). Packing ratio: tapped bulk density "
+           "over the kernels' density (1373 kg/m3); compressibility: (tapped - loose) / tapped.", ""]
+    out += header("| case | fraction | model | loose [kg/m3] | tapped [kg/m3] | packing ratio | lab "
+                  "| compressibility | lab")
+    for c in cases:
+        _, fraction, model = c.name.split("-")
+        out.append(f"| {c.name} | {fraction} | {model} | {c.cell('loose_bulk_density', '.1f')} "
+                   f"| {c.cell('tapped_bulk_density', '.1f')} | {c.cell('packing_ratio', '.3f')} "
+                   f"| {lab.get((fraction, 'packing_ratio'), '')} | {c.cell('compressibility', '.4f')} "
+                   f"| {lab.get((fraction, 'compressibility'), '')} " + c.tail())
+    return out
+
+
+def tables(runs, kept, reference_csv, names):
+    refs = references(reference_csv)
+    cases = [Case(runs, kept, n) for n in names]
+    groups = [
+        (lambda n: n.startswith("tw-"), lambda cs: test_weight(cs, refs)),
+        (lambda n: n.startswith("comp-") and not n.startswith("comp-dt-"), compression),
+        (lambda n: n.startswith("comp-dt-"), time_step),
+        (lambda n: n.startswith("tap-"), lambda cs: tapped(cs, refs)),
+    ]
+    out = ["# The study's experiments at full size", "",
+           "Written by `validation/run-study.sh` (validation/study_table.py); the command and how to "
+           "read it: validation/README.md.", ""]
+    for member, make in groups:
+        chosen = [c for c in cases if member(c.name)]
+        if chosen:
+            out += make(chosen) + [""]
+    return "\n".join(out)
+
+
+def found(runs, kept):
+    """The cases with a folder in RUNS or KEPT."""
+    names = set()
+    for folder in (runs, kept):
+        if os.path.isdir(folder):
+            names |= {n for n in os.listdir(folder) if os.path.isdir(os.path.join(folder, n))
+                      and n.split("-")[0] in ("tw", "comp", "tap")}
+    return sorted(names)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) < 4:
+        sys.exit(__doc__.strip())
+    print(tables(*sys.argv[1:4], sys.argv[4:] or found(*sys.argv[1:3])), end="")
