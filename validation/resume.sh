@@ -91,6 +91,18 @@ park_run() {
   mv "$kept/timeseries.csv.xz.tmp" "$kept/timeseries.csv.xz"
 }
 
+# park_unfinished RUNS KEPT CASE...: park_run of each CASE (a folder in RUNS and in KEPT) that has
+# a checkpoint and has not finished.
+park_unfinished() {
+  local runs="$1" kept="$2" c
+  shift 2
+  for c in "$@"; do
+    if run_finished "$kept/$c" || run_finished "$runs/$c" || [ ! -f "$runs/$c/checkpoint.bin" ]; then continue; fi
+    park_run "$runs/$c" "$kept/$c"
+    echo "$c: checkpoint parked in $kept/$c ($(du -h "$kept/$c/checkpoint.bin.xz" | cut -f1))" >&2
+  done
+}
+
 # unpark_run LABEL DIR KEPT: a run with no checkpoint in DIR but one parked in KEPT continues
 # from that.
 unpark_run() {

@@ -49,14 +49,7 @@ all=(large-5s medium-5s small-5s large-1s medium-1s small-1s)
 
 finished() { run_finished "$kept/cup-$1"; }
 
-park() {
-  local c
-  for c in "${all[@]}"; do
-    if finished "$c" || [ ! -f "$runs/cup-$c/checkpoint.bin" ]; then continue; fi
-    park_run "$runs/cup-$c" "$kept/cup-$c"
-    echo "$c: checkpoint parked in $kept/cup-$c ($(du -h "$kept/cup-$c/checkpoint.bin.xz" | cut -f1))" >&2
-  done
-}
+park() { park_unfinished "$runs" "$kept" "${all[@]/#/cup-}"; }
 
 # the table of every case so far and whether large > medium > small holds (validation/cup_table.py)
 table() {

@@ -93,14 +93,7 @@ for g in "${order[@]}"; do read -r -a members <<< "${groups[$g]}"; all+=("${memb
 
 finished() { run_finished "$kept/$1"; }
 
-park() {
-  local c
-  for c in "${all[@]}"; do
-    if finished "$c" || [ ! -f "$runs/$c/checkpoint.bin" ]; then continue; fi
-    park_run "$runs/$c" "$kept/$c"
-    echo "$c: checkpoint parked in $kept/$c ($(du -h "$kept/$c/checkpoint.bin.xz" | cut -f1))" >&2
-  done
-}
+park() { park_unfinished "$runs" "$kept" "${all[@]}"; }
 
 # The tables of every case so far (validation/study_table.py), and the report of the finished
 # ones beside the lab values.

@@ -61,9 +61,12 @@ same_engine "0.1.0 (commit 0123abc)" "0.1.0 (commit 0123abc)" || fail "a build d
   fail "uncommitted changes passed for the same engine"
 ! same_engine "unknown" "0.1.0 (commit 0123abc)" || fail "an unknown build passed for the same engine"
 ! same_engine "0.1.0 (commit ffffff0)" "0.1.0 (commit 0123abc)" || fail "commits git does not know passed"
-# parked and unparked: the same checkpoint and time series in a new folder, which continues
-park_run "$work/next" "$work/kept"
-unpark_run next "$work/moved" "$work/kept" 2> "$work/7.txt"
+# parked and unparked: the same checkpoint and time series in a new folder, which continues;
+# a finished run and one without a checkpoint are not parked
+mkdir -p "$work/empty"
+park_unfinished "$work" "$work/kept" run next empty 2> /dev/null
+[ ! -e "$work/kept/run" ] && [ ! -e "$work/kept/empty" ] || fail "a finished run or one without a checkpoint was parked"
+unpark_run next "$work/moved" "$work/kept/next" 2> "$work/7.txt"
 grep -q "next: continuing from the checkpoint parked in" "$work/7.txt" || fail "no unpark message"
 cmp -s "$work/next/checkpoint.bin" "$work/moved/checkpoint.bin" || fail "the unparked checkpoint differs"
 cmp -s "$work/next/timeseries.csv" "$work/moved/timeseries.csv" || fail "the unparked time series differs"
@@ -76,9 +79,9 @@ ONE_BUILD=1 run_or_resume moved "$work/moved" "$cup" --quiet --stop-at 5ms "${se
 grep -q "moved: its checkpoint was written by 0.1.0 (commit fffffffffff0), whose engine differs" "$work/8.txt" ||
   fail "no message of another build: $(cat "$work/8.txt")"
 [ "$(checkpoint_build "$work/moved")" = "$(this_build)" ] || fail "the run started again was not this build's"
-keep_run "$work/run" "$work/kept"
-cmp -s "$work/run/summary.json" "$work/kept/summary.json" || fail "keep_run did not keep the summary"
-[ ! -e "$work/kept/checkpoint.bin.xz" ] || fail "keep_run left the parked checkpoint"
+keep_run "$work/moved" "$work/kept/next"
+cmp -s "$work/moved/summary.json" "$work/kept/next/summary.json" || fail "keep_run did not keep the summary"
+[ ! -e "$work/kept/next/checkpoint.bin.xz" ] || fail "keep_run left the parked checkpoint"
 # bushel's exit status comes back
 if run_or_resume bad "$work/bad" "$cup" --quiet --set parameters.mass=-5g 2> /dev/null; then
   fail "a failed run returned 0"
