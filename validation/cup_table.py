@@ -70,7 +70,7 @@ def progress(runs, kept, case, prefix="cup-"):
     parked checkpoint (KEPT/PREFIX+CASE) have got."""
     run, parked = os.path.join(runs, prefix + case), os.path.join(kept, prefix + case)
     states = []
-    if os.path.exists(os.path.join(run, "checkpoint.bin")):
+    if os.path.exists(os.path.join(run, "checkpoint.bin")) or os.path.exists(os.path.join(run, "timeseries.csv")):
         at = reached(os.path.join(run, "timeseries.csv"))
         states.append("running or stopped " + (f"at {at}" if at else "(a checkpoint)"))
     if os.path.exists(os.path.join(parked, "checkpoint.bin.xz")):

@@ -140,7 +140,8 @@ lines = [l for l in out.splitlines() if l.startswith("| comp-dt-")]
 expect([l.split("|")[1].strip() for l in lines] == ["comp-dt-2", "comp-dt-5", "comp-dt-10"], "rows by step", out)
 
 # without cases: every case with a folder, by name
-out = subprocess.run([sys.executable, script, runs, kept, references], check=True, capture_output=True, text=True).stdout
+out = subprocess.run([sys.executable, script, runs, kept, references], check=True, capture_output=True,
+                     text=True).stdout
 names = [l.split("|")[1].strip() for l in out.splitlines() if l.startswith("| tw-") or l.startswith("| comp-")]
 expect(names == ["tw-garrison-1s-1h", "tw-garrison-1s-32h", "tw-garrison-1s-8h", "tw-kanmark-1s-1h",
                  "tw-kanmark-1s-32h", "tw-kanmark-1s-4h", "tw-kanmark-1s-8h", "comp-large-1s", "comp-large-1s-stiff",
