@@ -200,6 +200,10 @@ def compression(cases):
         out.append(f"| {c.name} | {model} | " + " | ".join(cells)
                    + f" | {fmt(compaction.get(c.name), '.1f')} | {worst(c, 'drift')} | {worst(c, 'unbalanced')} "
                    + c.tail())
+    out += ["", "The lid's pressure at the end of each still hold, against the level [kPa]:", "",
+            "| case | " + " | ".join(f"{p} kPa" for p in LEVELS[1:]) + " |", "|---|" + "---|" * (len(LEVELS) - 1)]
+    for c in cases:
+        out.append(f"| {c.name} | " + " | ".join(c.cell(f"drift_{i}", "+.2f", 1e-3) for i in range(1, len(LEVELS))) + " |")
     out.append("")
     for c in cases:
         rho = densities(c)
