@@ -18,6 +18,7 @@ usage: study_table.py RUNS KEPT REFERENCES [CASE...]
 import csv
 import json
 import os
+import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -89,7 +90,10 @@ class Case:
         if value is None:
             return ""
         not_full = (self.j["results"][key] or {}).get("not_full")
-        return format(value * scale, spec) + (" (not full)" if not_full else "")
+        if not not_full:
+            return format(value * scale, spec)
+        by = re.search(r"lay ([0-9.]+) mm below", not_full)
+        return format(value * scale, spec) + (f" (not full by {by.group(1)} mm)" if by else " (not full)")
 
     def stage_dt(self, stage):
         """The time step of a stage [s], or None."""

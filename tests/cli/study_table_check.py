@@ -107,11 +107,13 @@ expect("parked at t = 1.50 s (settle)" in row(out, "tw-kanmark-1s-4h"), "a parke
 expect("| not started |" in row(out, "tw-kanmark-1s-16h"), "a case not started", out)
 # a failed case, and a density over a sensor that was not full
 put(runs, "tw-kanmark-1s-8h", dict(test_weight(805.0), failed="particles lost"))
-put(runs, "tw-kanmark-1s-32h", test_weight({"value": 700.0, "unit": "kg/m3", "not_full": "the kettle was not full"}))
+put(runs, "tw-kanmark-1s-32h", test_weight({"value": 700.0, "unit": "kg/m3", "not_full": "the kettle was not full"},
+                                           {"value": 840.0, "unit": "kg/m3", "not_full": "its lowest point lay 2.5 mm below"}))
 out = table(tw)
 expect("FAILED: particles lost" in row(out, "tw-kanmark-1s-8h"), "a failed case", out)
 expect("kanmark 1s (1h, 8h, 32h; struck, kg/m3): not every case has finished" in out, "a failed case counts not", out)
-expect("| 700.0 (not full) | 54.38 (not full) |" in row(out, "tw-kanmark-1s-32h"), "not full", out)
+expect("| 840.0 (not full by 2.5 mm) | 700.0 (not full) | 54.38 (not full) |" in row(out, "tw-kanmark-1s-32h"),
+       "not full, by how much where the summary says", out)
 
 # Compression: rises with every level; the stiff kernels' compaction against the study's.
 soft = [780.0, 790.0, 800.0, 810.0, 820.0, 830.0, 845.0, 858.0]
