@@ -102,14 +102,19 @@ table() {
     "${all[@]}" > "$root/validation/results/study.md.tmp"
   mv "$root/validation/results/study.md.tmp" "$root/validation/results/study.md"
 }
-report() {
-  local c dirs=()
-  for c in "${all[@]}"; do
+report() {  # report OUT TITLE CASE...: `bushel report` of those cases that have finished
+  local out="$1" title="$2" c dirs=()
+  shift 2
+  for c in "$@"; do
     if finished "$c"; then dirs+=("validation/results/study-runs/$c"); fi
   done
   [ ${#dirs[@]} -gt 0 ] || return 0
-  (cd "$root" && "$bushel" report "${dirs[@]}" --out validation/results/study \
-    --title "The study's experiments at full size")
+  (cd "$root" && "$bushel" report "${dirs[@]}" --out "validation/results/$out" --title "$title")
+}
+reports() {  # the full-size cases, and apart from them the reduced samples of the time-step study
+  read -r -a reduced_cases <<< "${groups[comp-dt]}"
+  report study "The study's experiments at full size" "${all[@]/comp-dt-*/}"
+  report study-time-step "Compression: the lid's time step (reduced sample)" "${reduced_cases[@]}"
 }
 
 case "${1:-}" in
@@ -117,7 +122,7 @@ case "${1:-}" in
     for c in "${all[@]}"; do printf '%-24s %-15s %s\n' "$c" "${scenario[$c]}" "${sets[$c]}"; done
     exit 0 ;;
   --park) park; table; exit 0 ;;
-  --table) table; report; exit 0 ;;
+  --table) table; reports; exit 0 ;;
 esac
 if [[ "$(this_build)" == *uncommitted* ]]; then
   echo "run-study.sh: $bushel was built with uncommitted changes; build it from a committed tree," \
@@ -152,4 +157,4 @@ for c in "${cases[@]}"; do
 done
 table
 cat "$root/validation/results/study.md"
-report
+reports
