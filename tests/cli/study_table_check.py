@@ -112,8 +112,13 @@ put(runs, "tw-kanmark-1s-32h", test_weight({"value": 700.0, "unit": "kg/m3", "no
 out = table(tw)
 expect("FAILED: particles lost" in row(out, "tw-kanmark-1s-8h"), "a failed case", out)
 expect("kanmark 1s (1h, 8h, 32h; struck, kg/m3): not every case has finished" in out, "a failed case counts not", out)
-expect("| 840.0 (not full by 2.5 mm) | 700.0 (not full) | 54.38 (not full) |" in row(out, "tw-kanmark-1s-32h"),
-       "not full, by how much where the summary says", out)
+expect("| 840.0 | 700.0 (not full) | 54.38 (not full) |" in row(out, "tw-kanmark-1s-32h"),
+       "not full (the unstruck heap's sensor is never full)", out)
+
+put(runs, "comp-large-5s", compression([{"value": 780.0, "unit": "kg/m3", "not_full": "its lowest point lay 2.5 mm below"}]
+                                       + [790.0, 800.0, 810.0, 820.0, 830.0, 845.0, 858.0]))
+out = table(["comp-large-5s"])
+expect("| 5s | 780.0 (not full by 2.5 mm) | 790.0 |" in row(out, "comp-large-5s"), "not full by how much", out)
 
 # Compression: rises with every level; the stiff kernels' compaction against the study's.
 soft = [780.0, 790.0, 800.0, 810.0, 820.0, 830.0, 845.0, 858.0]
