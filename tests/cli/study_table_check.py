@@ -5,8 +5,10 @@ unfinished case is "not started", "running or stopped" or "parked", an interrupt
 failed one does not count as finished; the checks (KanMark > Garrison, the rise with drop
 height, the rise with pressure) say "holds" or "does NOT hold" from the values and wait for
 every case; the compaction, the overlap's share of it and the time-step span are the
-arithmetic of the values; a density over a sensor the grain did not fill is marked; without
-cases the script takes every case it finds.
+arithmetic of the values, and so are a test weight against the lab's expectation and the
+strike's loss; the lab's mixing excess is the special cubic of made-up mixtures that follow one
+exactly; a density over a sensor the grain did not fill is marked; without cases the script
+takes every case it finds.
 
 usage: study_table_check.py STUDY_TABLE_PY REFERENCES WORKDIR
 """
@@ -36,9 +38,10 @@ def put(folder, case, s):
         json.dump(s, f)
 
 
-def test_weight(struck, unstruck=850.0):
-    return summary({"bulk_density": struck, "bulk_density_unstruck": unstruck, "fraction_large": 0.8,
-                    "fraction_medium": 0.15, "fraction_small": 0.05, "filling_time": 4.0, "heap_angle": 20.0})
+def test_weight(struck, unstruck=850.0, before=810.0):
+    return summary({"bulk_density": struck, "bulk_density_unstruck": unstruck, "bulk_density_sensor": before,
+                    "fraction_large": 0.8, "fraction_medium": 0.15, "fraction_small": 0.05, "filling_time": 4.0,
+                    "heap_angle": 20.0})
 
 
 def compression(densities, **kw):
@@ -89,6 +92,10 @@ expect("rises with the drop height, kanmark 1s (1h, 8h, 32h; struck, kg/m3): hol
 expect("| 800.0 | 62.15 |" in row(out, "tw-kanmark-1s-1h"), "kg/m3 and lb/bu (800 / 12.8719)", out)
 expect("80.0 / 15.0 / 5.0 (81.5 / 15.5 / 3.0)" in row(out, "tw-kanmark-1s-1h"), "the kettle's composition", out)
 expect("kanmark 61.84 lb/bu, garrison 59.03 lb/bu" in out, "the ideal mixtures of the lab's fractions", out)
+expect("| 61.37 | +3.8 | -2.5 |" in row(out, "tw-garrison-1s-1h"),
+       "against the lab's expectation (61.37 / 59.15) and the strike (790 / 810)", out)
+expect("kanmark 0.50 %, garrison 0.21 % denser" in out and "expect kanmark 62.15 lb/bu, garrison 59.15 lb/bu" in out,
+       "the lab's mixing excess and the expectation", out)
 # an interrupted case is not finished; a run folder without a summary is running; a parked one
 put(runs, "tw-garrison-1s-8h", dict(test_weight(806.0), interrupted=True))
 os.makedirs(os.path.join(runs, "tw-garrison-1s-32h"))
@@ -161,6 +168,26 @@ put(runs, "tap-medium-5s", summary({"loose_bulk_density": 790.0, "tapped_bulk_de
                                     "packing_ratio": 835.0 / 1373, "compressibility": 45 / 835.0}))
 out = table(["tap-medium-5s"])
 expect("| 790.0 | 835.0 | 0.608 | 0.599 | 0.0539 | 0.059 |" in row(out, "tap-medium-5s"), "tapped row", out)
+
+# The mixing excess, on made-up mixtures that follow a known special cubic exactly: the fit
+# returns it, so the excess is the polynomial over the ideal mixture of its pure values.
+sys.path.insert(0, os.path.dirname(script))
+import study_table  # noqa: E402
+
+def packing(l, m, s):
+    return 0.63 * l + 0.60 * m + 0.56 * s + 0.04 * l * m + 0.03 * l * s + 0.02 * m * s + 0.1 * l * m * s
+
+made_up = os.path.join(work, "ternary.csv")
+with open(made_up, "w") as f:
+    f.write("# made up\nm7_pct,m8_pct,m10_pct,packing_ratio_kanmark\n")
+    for l in range(0, 101, 20):
+        for m in range(0, 101 - l, 20):
+            f.write(f"{l},{m},{100 - l - m},{packing(l / 100, m / 100, (100 - l - m) / 100)}\n")
+shares = (0.5, 0.3, 0.2)
+exact = packing(*shares) * sum(s / p for s, p in zip(shares, (0.63, 0.60, 0.56))) - 1
+got = study_table.mixing_excess(made_up, shares)
+expect(abs(got - exact) < 1e-12, f"mixing excess {got}, not {exact}", "")
+expect(study_table.mixing_excess(made_up, (0.0, 1.0, 0.0)) == 0.0, "no excess of a pure fraction", "")
 
 for f in failures:
     print("FAIL:", f)
