@@ -102,6 +102,9 @@ table() {
     "${all[@]}" > "$root/validation/results/study.md.tmp"
   mv "$root/validation/results/study.md.tmp" "$root/validation/results/study.md"
 }
+# The lab's values: the study's (built in), and the test weights its data expect of the samples
+# (study_table.py --expected).
+expected="$root/validation/results/study-expected.csv"
 report() {  # report OUT TITLE CASE...: `bushel report` of those cases that have finished
   local out="$1" title="$2" c dirs=()
   shift 2
@@ -109,7 +112,9 @@ report() {  # report OUT TITLE CASE...: `bushel report` of those cases that have
     if finished "$c"; then dirs+=("validation/results/study-runs/$c"); fi
   done
   [ ${#dirs[@]} -gt 0 ] || return 0
-  (cd "$root" && "$bushel" report "${dirs[@]}" --out "validation/results/$out" --title "$title")
+  /usr/bin/python3 "$root/validation/study_table.py" --expected "$root/data/reference_values.csv" > "$expected"
+  (cd "$root" && "$bushel" report "${dirs[@]}" --out "validation/results/$out" --title "$title" \
+    --reference study --reference "$expected")
 }
 reports() {  # the full-size cases, and apart from them the reduced samples of the time-step study
   read -r -a reduced_cases <<< "${groups[comp-dt]}"

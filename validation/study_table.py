@@ -5,6 +5,7 @@ project has (data/reference_values.csv), the checks the physics requires, and pe
 engine build, wall time and particle-steps/s, or how far an unfinished case has got.
 
 usage: study_table.py RUNS KEPT REFERENCES [CASE...]
+       study_table.py --expected REFERENCES   # the lab's expected test weights, as a reference CSV
   RUNS        the run folders (runs/validation/study): CASE/ with summary.json, or with
               checkpoint.bin and timeseries.csv while it runs
   KEPT        the kept results (validation/results/study-runs): CASE/summary.json of finished
@@ -323,6 +324,18 @@ def tables(runs, kept, reference_csv, names):
     return "\n".join(out)
 
 
+def expected_csv(reference_csv):
+    """The test weight at h that the lab's data expect of each sample (test_weight), as a
+    reference table for `bushel report --reference` (docs/report.md)."""
+    lab, _, excess = references(reference_csv)
+    out = ["scenario,result,share_large,share_medium,share_small,drop,value,unit,sd,source"]
+    for sample, shares in SAMPLES.items():
+        value = ideal_mixture(lab, shares) * (1 + excess[sample])
+        out.append("test-weight,bulk_density," + ",".join(f"{100 * s:g}%" for s in shares)
+                   + f",5.1 cm,{value:.2f},lb/bu,,lab fractions mixed (estimate: ideal + tapped mixing excess)")
+    return "\n".join(out) + "\n"
+
+
 def found(runs, kept):
     """The cases with a folder in RUNS or KEPT."""
     names = set()
@@ -334,6 +347,9 @@ def found(runs, kept):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) < 4:
+    if len(sys.argv) == 3 and sys.argv[1] == "--expected":
+        print(expected_csv(sys.argv[2]), end="")
+    elif len(sys.argv) < 4:
         sys.exit(__doc__.strip())
-    print(tables(*sys.argv[1:4], sys.argv[4:] or found(*sys.argv[1:3])), end="")
+    else:
+        print(tables(*sys.argv[1:4], sys.argv[4:] or found(*sys.argv[1:3])), end="")

@@ -5,10 +5,10 @@ unfinished case is "not started", "running or stopped" or "parked", an interrupt
 failed one does not count as finished; the checks (KanMark > Garrison, the rise with drop
 height, the rise with pressure) say "holds" or "does NOT hold" from the values and wait for
 every case; the compaction, the overlap's share of it and the time-step span are the
-arithmetic of the values, and so are a test weight against the lab's expectation and the
-strike's loss; the lab's mixing excess is the special cubic of made-up mixtures that follow one
-exactly; a density over a sensor the grain did not fill is marked; without cases the script
-takes every case it finds.
+arithmetic of the values, and so are a test weight against the lab's expectation (also
+written as a reference table) and the strike's loss; the lab's mixing excess is the special
+cubic of made-up mixtures that follow one exactly; a density over a sensor the grain did not
+fill is marked; without cases the script takes every case it finds.
 
 usage: study_table_check.py STUDY_TABLE_PY REFERENCES WORKDIR
 """
@@ -168,6 +168,13 @@ put(runs, "tap-medium-5s", summary({"loose_bulk_density": 790.0, "tapped_bulk_de
                                     "packing_ratio": 835.0 / 1373, "compressibility": 45 / 835.0}))
 out = table(["tap-medium-5s"])
 expect("| 790.0 | 835.0 | 0.608 | 0.599 | 0.0539 | 0.059 |" in row(out, "tap-medium-5s"), "tapped row", out)
+
+# The expected test weights as a reference table for bushel report (docs/report.md).
+out = subprocess.run([sys.executable, script, "--expected", references], check=True, capture_output=True,
+                     text=True).stdout
+expect(out.startswith("scenario,result,share_large,share_medium,share_small,drop,value,unit,sd,source\n")
+       and "\ntest-weight,bulk_density,81.5%,15.5%,3%,5.1 cm,62.15,lb/bu,," in out
+       and "\ntest-weight,bulk_density,21.8%,60.6%,17.6%,5.1 cm,59.15,lb/bu,," in out, "the expected test weights", out)
 
 # The mixing excess, on made-up mixtures that follow a known special cubic exactly: the fit
 # returns it, so the excess is the polynomial over the ideal mixture of its pure values.
