@@ -63,21 +63,19 @@ cases=("$@")
 
 for c in "${cases[@]}"; do
   [ -n "${sets[$c]:-}" ] || { echo "unknown case '$c' (known: ${!sets[*]})" >&2; exit 2; }
-  dir="$runs/cup-$c"
   if finished "$c"; then
     echo "$c: finished before, kept ($kept/cup-$c)" >&2
     continue
   fi
-  unpark_run "$c" "$dir" "$kept/cup-$c"
+  if run_failed "$kept/cup-$c"; then echo "$c: failed before ($kept/cup-$c/summary.json)" >&2; continue; fi
   args=(--set parameters.frame_interval=1s)
   for s in ${sets[$c]} ${SET:-}; do
     if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
   done
   rc=0
-  run_or_resume "$c" "$dir" "$root/scenarios/calibration-cup.yaml" "${args[@]}" || rc=$?
+  run_case "$c" "$runs/cup-$c" "$kept/cup-$c" "$root/scenarios/calibration-cup.yaml" "${args[@]}" || rc=$?
   if [ "$rc" -eq "$run_busy" ]; then continue; fi  # (another script runs it: the next case)
-  if run_finished "$dir"; then keep_run "$dir" "$kept/cup-$c"; fi
-  if [ "${rc:-0}" -ne 0 ]; then
+  if [ "$rc" -ne 0 ] && ! run_failed "$runs/cup-$c"; then
     echo "$c: stopped (exit ${rc}); run the script again to continue" >&2
     table > "$root/validation/results/cup$series.md"
     exit "$rc"

@@ -44,7 +44,7 @@ runs="$root/runs/validation/study"
 kept="$root/validation/results/study-runs"
 mkdir -p "$runs" "$kept"
 source "$root/validation/resume.sh"
-export ONE_BUILD=1
+ONE_BUILD=1
 
 # The calibrated parameter sets (docs/wheat.md). Single spheres: per pair of fractions; the
 # test weight's mixtures take all three pairs, a one-fraction sample the fraction's own.
@@ -97,10 +97,12 @@ park() { park_unfinished "$runs" "$kept" "${all[@]}"; }
 
 # The tables of every case so far (validation/study_table.py), and the report of the finished
 # ones beside the lab values.
-table() {
+table() {  # (through a file of its own: two scripts may write it at once)
+  local tmp
+  tmp=$(mktemp "$root/validation/results/study.md.XXXXXX")
   /usr/bin/python3 "$root/validation/study_table.py" "$runs" "$kept" "$root/data/reference_values.csv" \
-    "${all[@]}" > "$root/validation/results/study.md.tmp"
-  mv "$root/validation/results/study.md.tmp" "$root/validation/results/study.md"
+    "${all[@]}" > "$tmp"
+  mv "$tmp" "$root/validation/results/study.md"
 }
 # The lab's values: the study's (built in), and the test weights its data expect of the samples
 # (study_table.py --expected).
@@ -112,14 +114,20 @@ report() {  # report OUT TITLE CASE...: `bushel report` of those cases that have
     if finished "$c"; then dirs+=("validation/results/study-runs/$c"); fi
   done
   [ ${#dirs[@]} -gt 0 ] || return 0
-  /usr/bin/python3 "$root/validation/study_table.py" --expected "$root/data/reference_values.csv" > "$expected"
+  local tmp
+  tmp=$(mktemp "$expected.XXXXXX")
+  /usr/bin/python3 "$root/validation/study_table.py" --expected "$root/data/reference_values.csv" > "$tmp"
+  mv "$tmp" "$expected"
   (cd "$root" && "$bushel" report "${dirs[@]}" --out "validation/results/$out" --title "$title" \
     --reference study --reference "$expected")
 }
 reports() {  # the full-size cases, and apart from them the reduced samples of the time-step study
-  read -r -a reduced_cases <<< "${groups[comp-dt]}"
-  report study "The study's experiments at full size" "${all[@]/comp-dt-*/}"
-  report study-time-step "Compression: the lid's time step (reduced sample)" "${reduced_cases[@]}"
+  local c full=() reduced=()
+  for c in "${all[@]}"; do
+    if [[ "$c" == comp-dt-* ]]; then reduced+=("$c"); else full+=("$c"); fi
+  done
+  report study "The study's experiments at full size" "${full[@]}"
+  report study-time-step "Compression: the lid's time step (reduced sample)" "${reduced[@]}"
 }
 
 case "${1:-}" in
@@ -143,19 +151,17 @@ for a in "${@:-${order[@]}}"; do
 done
 
 for c in "${cases[@]}"; do
-  dir="$runs/$c"
   if finished "$c"; then echo "$c: finished before, kept ($kept/$c)" >&2; continue; fi
-  unpark_run "$c" "$dir" "$kept/$c"
+  if run_failed "$kept/$c"; then echo "$c: failed before ($kept/$c/summary.json); remove it to run it again" >&2; continue; fi
   args=(--set parameters.frame_interval=1s)
   for s in ${sets[$c]}; do
     if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
   done
   rc=0
-  run_or_resume "$c" "$dir" "$root/scenarios/${scenario[$c]}.yaml" "${args[@]}" || rc=$?
+  run_case "$c" "$runs/$c" "$kept/$c" "$root/scenarios/${scenario[$c]}.yaml" "${args[@]}" || rc=$?
   if [ "$rc" -eq "$run_busy" ]; then continue; fi  # (another script runs it: the next case)
-  if run_finished "$dir"; then keep_run "$dir" "$kept/$c"; fi
   table
-  if [ "$rc" -ne 0 ]; then
+  if [ "$rc" -ne 0 ] && ! run_failed "$runs/$c"; then  # (a failed case: the next one)
     echo "$c: stopped (exit $rc); run the script again to continue" >&2
     exit "$rc"
   fi

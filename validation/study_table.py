@@ -25,11 +25,12 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cup_table import engine, exponent, fmt, progress  # noqa: E402
 
-LB_PER_BU = 12.8719  # kg/m3 per lb/bu (docs/wheat.md)
 FRACTIONS = ("large", "medium", "small")
 SAMPLES = {"kanmark": (0.815, 0.155, 0.030), "garrison": (0.218, 0.606, 0.176)}  # by mass (docs/wheat.md)
 LEVELS = (0, 7, 21, 34, 48, 69, 103, 138)  # kPa, compression.yaml's p1 .. p7
 DROPS = ("1h", "2h", "4h", "8h", "16h", "32h")  # h = 5.1 cm
+STUDY_DROPS = ("1h", "8h", "32h")  # those of every sample and model (run-study.sh)
+STIFF_OVERLAP = 10 ** (-2 / 3)  # Hertz overlap of kernels ten times stiffer (comp-large-1s-stiff), relative
 
 
 def references(path):
@@ -54,9 +55,10 @@ def references(path):
 def mixing_excess(path, shares):
     """How much denser the lab's mixtures of the fractions pack than the ideal mixture, at
     `shares` (by mass) [-]: data/ternary_packing_compressibility.csv holds the tapped packing
-    ratio of 21 binary and ternary mixtures of KanMark's sieve fractions; a special cubic
-    (Scheffe) mixture model fitted to them by least squares, at the shares, over the ideal
-    mixture of the model's three pure fractions (specific volumes added by mass)."""
+    ratio of 21 mixtures of KanMark's sieve fractions (the three alone, 12 binary, 6 ternary);
+    a special cubic (Scheffe) mixture model fitted to them by least squares, at the shares,
+    over the ideal mixture of the model's three pure fractions (specific volumes added by
+    mass)."""
     import numpy as np
     with open(path) as f:
         rows = list(csv.DictReader(l for l in f if not l.startswith("#")))
@@ -156,9 +158,15 @@ def verdict(values, holds):
     return ("holds" if holds(values) else "does NOT hold") + ": " + ", ".join(f"{v:.1f}" for v in values)
 
 
+def expected(refs):
+    """The test weight at h that the lab's data expect of each sample [lb/bu] (references)."""
+    lab, _, excess = refs
+    return {s: ideal_mixture(lab, shares) * (1 + excess[s]) for s, shares in SAMPLES.items()}
+
+
 def test_weight(cases, refs):
-    lab, excess = refs[0], refs[2]
-    expected = {s: ideal_mixture(lab, SAMPLES[s]) * (1 + excess[s]) for s in SAMPLES}
+    lab, _, excess = refs
+    expect = expected(refs)
     out = ["## Test weight per bushel (scenarios/test-weight.yaml)", "",
            "1.1 kg of each sample falls from the drop height into the one-quart kettle, which is struck "
            "level. The lab's test weight at h of the pure fractions: "
@@ -169,46 +177,42 @@ def test_weight(cases, refs):
            "of the same fractions (data/ternary_packing_compressibility.csv, a special cubic fit) pack "
            + ", ".join(f"{s} {100 * excess[s]:.2f} %" for s in SAMPLES) + " denser than their ideal mixture; "
            "with that excess the lab's data expect "
-           + ", ".join(f"{s} {expected[s]:.2f} lb/bu" for s in SAMPLES) + " at h (an estimate: the excess "
+           + ", ".join(f"{s} {expect[s]:.2f} lb/bu" for s in SAMPLES) + " at h (an estimate: the excess "
            "was measured tapped, not poured). Strike: the struck density against the kernels centred in the "
            "kettle before the strike, when the heap covered it.", ""]
     out += header("| case | sample | model | drop | unstruck [kg/m3] | struck [kg/m3] | test weight [lb/bu] "
-                  "| against the lab's expectation at h [%] | strike [%] | kettle large / medium / small [%] (sample) | filling time [s] "
-                  "| heap angle [deg]")
+                  "| against the lab's expectation at h [%] | strike [%] | kettle large / medium / small [%] "
+                  "(sample) | filling time [s] | heap angle [deg]")
     struck = {}
     for c in cases:
         _, sample, model, drop = c.name.split("-")
         shares = " / ".join(f"{100 * s:.1f}" for s in SAMPLES[sample])
         kettle = [c.result("fraction_" + f) for f in FRACTIONS]
         kettle = " / ".join(f"{100 * v:.1f}" for v in kettle) if None not in kettle else ""
-        bd, before = c.result("bulk_density"), c.result("bulk_density_sensor")
+        bd, lb, before = (c.result(k) for k in ("bulk_density", "test_weight_lb_bu", "bulk_density_sensor"))
         if c.done:
             struck[(sample, model, drop)] = bd
         # (unstruck: all the grain in and on the kettle over the kettle's volume, by a sensor that
         # reaches above the heap on purpose, so never full)
         out.append(f"| {c.name} | {sample} | {model} | {drop} | {fmt(c.result('bulk_density_unstruck'), '.1f')} "
-                   f"| {c.cell('bulk_density', '.1f')} | {c.cell('bulk_density', '.2f', 1 / LB_PER_BU)} "
-                   f"| {fmt(bd and 100 * (bd / LB_PER_BU / expected[sample] - 1), '+.1f')} "
-                   f"| {fmt(bd and before and 100 * (bd / before - 1), '+.1f')} "
-                   f"| {kettle} ({shares}) "
+                   f"| {c.cell('bulk_density', '.1f')} | {c.cell('test_weight_lb_bu', '.2f')} "
+                   f"| {fmt(lb and 100 * (lb / expect[sample] - 1), '+.1f')} "
+                   f"| {fmt(bd and before and 100 * (bd / before - 1), '+.1f')} | {kettle} ({shares}) "
                    f"| {fmt(c.result('filling_time'), '.2f')} | {fmt(c.result('heap_angle'), '.1f')} " + c.tail())
     out.append("")
-    models = sorted({k[1] for k in struck} | {c.name.split("-")[2] for c in cases})
-    drops = [d for d in DROPS if any(c.name.endswith("-" + d) for c in cases)]
-    for model in models:
-        for drop in drops:
-            if not any(c.name in (f"tw-{s}-{model}-{drop}" for s in SAMPLES) for c in cases):
-                continue
-            pair = [struck.get((s, model, drop)) for s in SAMPLES]
+    names = {c.name for c in cases}
+    for model in sorted({c.name.split("-")[2] for c in cases}):
+        drops = {s: [d for d in DROPS if f"tw-{s}-{model}-{d}" in names] for s in SAMPLES}
+        for drop in (d for d in DROPS if all(d in drops[s] for s in SAMPLES)):
             out.append(f"- KanMark > Garrison, {model}, {drop} (struck, kg/m3): "
-                       + verdict(pair, lambda v: v[0] > v[1]))
-        for sample in SAMPLES:
-            ladder = [struck.get((sample, model, d)) for d in drops
-                      if any(c.name == f"tw-{sample}-{model}-{d}" for c in cases)]
-            if len(ladder) > 1:
-                out.append(f"- rises with the drop height, {sample} {model} ("
-                           + ", ".join(d for d in drops if f"tw-{sample}-{model}-{d}" in [c.name for c in cases])
-                           + "; struck, kg/m3): " + verdict(ladder, lambda v: all(a < b for a, b in zip(v, v[1:]))))
+                       + verdict([struck.get((s, model, drop)) for s in SAMPLES], lambda v: v[0] > v[1]))
+        for sample in SAMPLES:  # (over the study's three heights, then over every height run)
+            study = [d for d in drops[sample] if d in STUDY_DROPS]
+            for ladder in (study, drops[sample]) if drops[sample] != study else (study,):
+                if len(ladder) > 1:
+                    out.append(f"- rises with the drop height, {sample} {model} ({', '.join(ladder)}; struck, "
+                               "kg/m3): " + verdict([struck.get((sample, model, d)) for d in ladder],
+                                                    lambda v: all(a < b for a, b in zip(v, v[1:]))))
     return out
 
 
@@ -218,12 +222,12 @@ def densities(c):
 
 
 def worst(c, key):
-    """The largest |value| of key_1 .. key_7 and its level, as 'VALUE at P kPa'."""
-    values = [(abs(v), LEVELS[i]) for i in range(1, len(LEVELS)) if (v := c.result(f"{key}_{i}")) is not None]
+    """The value of key_1 .. key_7 largest in size and its level, as 'VALUE at P kPa'."""
+    values = [(v, LEVELS[i]) for i in range(1, len(LEVELS)) if (v := c.result(f"{key}_{i}")) is not None]
     if not values:
         return ""
-    v, level = max(values)
-    return (f"{v / 1e3:.2f} kPa" if key == "drift" else exponent(v, 2)) + f" at {level} kPa"
+    v, level = max(values, key=lambda x: abs(x[0]))
+    return (f"{v / 1e3:+.2f} kPa" if key == "drift" else exponent(v, 2)) + f" at {level} kPa"
 
 
 def compression(cases):
@@ -255,9 +259,15 @@ def compression(cases):
                        + verdict(rho, lambda v: all(a < b for a, b in zip(v, v[1:]))))
     soft, stiff = compaction.get("comp-large-1s"), compaction.get("comp-large-1s-stiff")
     if soft and stiff is not None:
+        # Hertz: under one load the overlap goes as G^(-2/3), so the stiff kernels still overlap
+        # STIFF_OVERLAP as deep. Soft = R + O, stiff = R + STIFF_OVERLAP O, if both rearrange
+        # alike (R): O / soft = (1 - stiff / soft) / (1 - STIFF_OVERLAP); 1 - stiff / soft alone
+        # is the least it can be.
+        least = 1 - stiff / soft
         out.append(f"- overlap: the kernels ten times stiffer compact {stiff:.1f} % where the study's compact "
-                   f"{soft:.1f} %; about {100 * (1 - stiff / soft):.0f} % of the study's material's compaction "
-                   "is the kernels' overlap, the rest their rearranging")
+                   f"{soft:.1f} %; of the study's material's compaction at least {100 * least:.0f} % is the "
+                   f"kernels' overlap, about {100 * least / (1 - STIFF_OVERLAP):.0f} % if both rearrange alike "
+                   f"(the stiff kernels overlap {STIFF_OVERLAP:.2f} times as deep), the rest their rearranging")
     return out
 
 
@@ -327,10 +337,9 @@ def tables(runs, kept, reference_csv, names):
 def expected_csv(reference_csv):
     """The test weight at h that the lab's data expect of each sample (test_weight), as a
     reference table for `bushel report --reference` (docs/report.md)."""
-    lab, _, excess = references(reference_csv)
     out = ["scenario,result,share_large,share_medium,share_small,drop,value,unit,sd,source"]
-    for sample, shares in SAMPLES.items():
-        value = ideal_mixture(lab, shares) * (1 + excess[sample])
+    for sample, value in expected(references(reference_csv)).items():
+        shares = SAMPLES[sample]
         out.append("test-weight,bulk_density," + ",".join(f"{100 * s:g}%" for s in shares)
                    + f",5.1 cm,{value:.2f},lb/bu,,lab fractions mixed (estimate: ideal + tapped mixing excess)")
     return "\n".join(out) + "\n"

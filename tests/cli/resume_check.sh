@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # validation/resume.sh: run_or_resume starts a run, continues one from its checkpoint (its
 # --set overrides left out: the checkpoint holds them, and bushel refuses them with --restart)
-# and keeps a finished one; with ONE_BUILD=1 it starts again a run whose checkpoint another
-# engine build wrote; park_run, unpark_run and keep_run carry a run to another checkout.
+# and keeps a finished one, and leaves a failed one alone; with ONE_BUILD=1 it starts again a
+# run whose checkpoint another engine build wrote, and leaves alone one whose build this clone
+# cannot compare; park_run, unpark_run and keep_run carry a run to another checkout, and
+# run_case does all three under the run's lock.
 #   resume_check.sh BUSHEL SOURCE_DIR WORK_DIR
 set -euo pipefail
 bushel="$1" src="$2" work="$3"
@@ -60,7 +62,16 @@ same_engine "0.1.0 (commit 0123abc)" "0.1.0 (commit 0123abc)" || fail "a build d
 ! same_engine "0.1.0 (commit 0123abc, uncommitted changes)" "0.1.0 (commit 0123abc, uncommitted changes)" ||
   fail "uncommitted changes passed for the same engine"
 ! same_engine "unknown" "0.1.0 (commit 0123abc)" || fail "an unknown build passed for the same engine"
-! same_engine "0.1.0 (commit ffffff0)" "0.1.0 (commit 0123abc)" || fail "commits git does not know passed"
+status=0
+same_engine "0.1.0 (commit ffffff0)" "0.1.0 (commit 0123abc)" || status=$?
+[ "$status" -eq 2 ] || fail "commits git does not know gave $status, not 2 (cannot tell)"
+# (the last commit that changed src/ and its parent, where this checkout has both)
+if last=$(git -C "$src" log -1 --format=%H -- src 2> /dev/null) && [ -n "$last" ] &&
+    parent=$(git -C "$src" rev-parse --verify -q "$last^" 2> /dev/null); then
+  status=0
+  same_engine "0.1.0 (commit ${parent:0:12})" "0.1.0 (commit ${last:0:12})" || status=$?
+  [ "$status" -eq 1 ] || fail "a commit that changed src/ and its parent gave $status, not 1 (engines differ)"
+fi
 # parked and unparked: the same checkpoint and time series in a new folder, which continues;
 # a finished run and one without a checkpoint are not parked
 mkdir -p "$work/empty"
@@ -71,10 +82,17 @@ grep -q "next: continuing from the checkpoint parked in" "$work/7.txt" || fail "
 cmp -s "$work/next/checkpoint.bin" "$work/moved/checkpoint.bin" || fail "the unparked checkpoint differs"
 cmp -s "$work/next/timeseries.csv" "$work/moved/timeseries.csv" || fail "the unparked time series differs"
 # a checkpoint that another engine build wrote (its commit changed in place): with ONE_BUILD=1
-# the run starts again; without, it would continue
+# a build this clone cannot compare is left alone, one whose engine differs starts again
 LC_ALL=C sed -i 's/(commit [0-9a-f]\{12\}/(commit fffffffffff0/' "$work/moved/checkpoint.bin"
 [[ "$(checkpoint_build "$work/moved")" == *fffffffffff0* ]] || fail "the checkpoint's build was not changed"
+status=0
 ONE_BUILD=1 run_or_resume moved "$work/moved" "$cup" --quiet --stop-at 5ms "${sets[@]}" > /dev/null 2> "$work/8.txt" ||
+  status=$?
+[ "$status" -eq 1 ] && grep -q "moved: its checkpoint was written by 0.1.0 (commit fffffffffff0), which this clone" \
+  "$work/8.txt" || fail "a build that cannot be compared was not left alone ($status): $(cat "$work/8.txt")"
+[[ "$(checkpoint_build "$work/moved")" == *fffffffffff0* ]] || fail "a checkpoint that cannot be compared was replaced"
+(same_engine() { return 1; }
+ ONE_BUILD=1 run_or_resume moved "$work/moved" "$cup" --quiet --stop-at 5ms "${sets[@]}" > /dev/null 2> "$work/8.txt") ||
   fail "the run of another build did not start again: $(cat "$work/8.txt")"
 grep -q "moved: its checkpoint was written by 0.1.0 (commit fffffffffff0), whose engine differs" "$work/8.txt" ||
   fail "no message of another build: $(cat "$work/8.txt")"
@@ -82,6 +100,22 @@ grep -q "moved: its checkpoint was written by 0.1.0 (commit fffffffffff0), whose
 keep_run "$work/moved" "$work/kept/next"
 cmp -s "$work/moved/summary.json" "$work/kept/next/summary.json" || fail "keep_run did not keep the summary"
 [ ! -e "$work/kept/next/checkpoint.bin.xz" ] || fail "keep_run left the parked checkpoint"
+# run_case: a run parked in KEPT continues under its lock, and once finished its summary is kept
+park_unfinished "$work" "$work/kept2" next 2> /dev/null
+run_case case "$work/case" "$work/kept2/next" "$cup" --quiet "${sets[@]}" > /dev/null 2> "$work/9.txt" ||
+  fail "run_case failed: $(cat "$work/9.txt")"
+grep -q "case: continuing from the checkpoint parked in" "$work/9.txt" || fail "run_case did not unpark: $(cat "$work/9.txt")"
+run_finished "$work/kept2/next" && [ ! -e "$work/kept2/next/checkpoint.bin.xz" ] || fail "run_case did not keep the run"
+# a failed run is not finished, not continued, not parked; run_case keeps its summary
+mkdir -p "$work/failed" && touch "$work/failed/checkpoint.bin"
+echo '{"interrupted": false, "failed": "particles lost"}' > "$work/failed/summary.json"
+! run_finished "$work/failed" && run_failed "$work/failed" || fail "a failed run counted as finished"
+park_unfinished "$work" "$work/kept3" failed 2> /dev/null
+[ ! -e "$work/kept3/failed" ] || fail "a failed run was parked"
+status=0
+run_case failed "$work/failed" "$work/kept3/failed" "$cup" --quiet 2> "$work/10.txt" || status=$?
+[ "$status" -eq 1 ] && grep -q "failed: it failed" "$work/10.txt" || fail "a failed run was not left alone: $(cat "$work/10.txt")"
+run_failed "$work/kept3/failed" || fail "the failed run's summary was not kept"
 # bushel's exit status comes back
 if run_or_resume bad "$work/bad" "$cup" --quiet --set parameters.mass=-5g 2> /dev/null; then
   fail "a failed run returned 0"
