@@ -14,6 +14,7 @@
 #   tw-1s     test weight, KanMark and Garrison at h, 8h and 32h (h = 5.1 cm), single spheres
 #   comp-dt   compression of a reduced sample (120 g, 30 mm high, 5 spheres) with the lid's
 #             stages at 2, 5, 10 and 20 % of the critical step
+#   tw-seeds  KanMark's single-sphere test weights again with another seed (a sample's chance)
 #   comp-1s   compression at full size, large kernels, single spheres; and the same with
 #             kernels ten times stiffer (how much of the compaction is overlap)
 #   tap-1s    loose and tapped density, the three fractions, single spheres
@@ -84,10 +85,13 @@ add comp-1s comp-large-1s-stiff compression \
 for percent in 20 10 5 2; do  # (the cheapest first)
   add comp-dt "comp-dt-$percent" compression "$reduced $five press_step=$percent%critical"
 done
+for h in 1h 8h 32h; do  # (the same runs with another seed: how far a difference is the sample's chance)
+  add tw-seeds "tw-kanmark-1s-$h-seed2" test-weight "$one_mix $kanmark drop=${drop[$h]} seed=2"
+done
 for h in 2h 4h 16h; do
   add tw-extra "tw-kanmark-1s-$h" test-weight "$one_mix $kanmark drop=${drop[$h]}"
 done
-order=(tw-1s comp-dt comp-1s tap-1s tw-5s comp-5s tap-5s tw-extra)
+order=(tw-1s comp-dt tw-seeds comp-1s tap-1s tw-5s comp-5s tap-5s tw-extra)
 all=()
 for g in "${order[@]}"; do read -r -a members <<< "${groups[$g]}"; all+=("${members[@]}"); done
 

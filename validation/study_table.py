@@ -12,7 +12,7 @@ usage: study_table.py RUNS KEPT REFERENCES [CASE...]
               cases, CASE/checkpoint.bin.xz and timeseries.csv.xz of parked ones; a kept
               summary is read before the run folder's
   REFERENCES  data/reference_values.csv
-  CASE        tw-SAMPLE-MODEL-DROP (test weight), comp-FRACTION-MODEL[-stiff] (compression),
+  CASE        tw-SAMPLE-MODEL-DROP[-seedN] (test weight; with another seed), comp-FRACTION-MODEL[-stiff] (compression),
               comp-dt-PERCENT (its time step), tap-FRACTION-MODEL (tapped density); default:
               every case with a folder in RUNS or KEPT, by name
 """
@@ -183,15 +183,14 @@ def test_weight(cases, refs):
     out += header("| case | sample | model | drop | unstruck [kg/m3] | struck [kg/m3] | test weight [lb/bu] "
                   "| against the lab's expectation at h [%] | strike [%] | kettle large / medium / small [%] "
                   "(sample) | filling time [s] | heap angle [deg]")
-    struck = {}
+    struck = {}  # (sample, model, drop) -> the struck density of each seed [kg/m3], None until done
     for c in cases:
-        _, sample, model, drop = c.name.split("-")
+        _, sample, model, drop = c.name.split("-")[:4]
         shares = " / ".join(f"{100 * s:.1f}" for s in SAMPLES[sample])
         kettle = [c.result("fraction_" + f) for f in FRACTIONS]
         kettle = " / ".join(f"{100 * v:.1f}" for v in kettle) if None not in kettle else ""
         bd, lb, before = (c.result(k) for k in ("bulk_density", "test_weight_lb_bu", "bulk_density_sensor"))
-        if c.done:
-            struck[(sample, model, drop)] = bd
+        struck.setdefault((sample, model, drop), []).append(bd if c.done else None)
         # (unstruck: all the grain in and on the kettle over the kettle's volume, by a sensor that
         # reaches above the heap on purpose, so never full)
         out.append(f"| {c.name} | {sample} | {model} | {drop} | {fmt(c.result('bulk_density_unstruck'), '.1f')} "
@@ -200,19 +199,57 @@ def test_weight(cases, refs):
                    f"| {fmt(bd and before and 100 * (bd / before - 1), '+.1f')} | {kettle} ({shares}) "
                    f"| {fmt(c.result('filling_time'), '.2f')} | {fmt(c.result('heap_angle'), '.1f')} " + c.tail())
     out.append("")
-    names = {c.name for c in cases}
-    for model in sorted({c.name.split("-")[2] for c in cases}):
-        drops = {s: [d for d in DROPS if f"tw-{s}-{model}-{d}" in names] for s in SAMPLES}
+    return out + test_weight_checks(struck)
+
+
+def pooled_sd(groups):
+    """The standard deviation of one run from the groups of runs that differ only in their seed
+    (pooled: the squares about each group's mean over the degrees of freedom), or None."""
+    done = [g for g in groups if None not in g and len(g) > 1]
+    dof = sum(len(g) - 1 for g in done)
+    if not dof:
+        return None
+    return (sum(sum((v - sum(g) / len(g)) ** 2 for v in g) for g in done) / dof) ** 0.5
+
+
+def ordered(groups, labels, sd, sign=1):
+    """The check that each group's mean lies above (sign 1) or below (sign -1) the one before,
+    as verdict words; with the seeds' scatter, the steps that are smaller than two standard
+    deviations of their difference are named by their labels: they do not tell the order."""
+    if any(None in g for g in groups):
+        return "not every case has finished"
+    means = [sum(g) / len(g) for g in groups]
+    words = verdict(means, lambda v: all(sign * (b - a) > 0 for a, b in zip(v, v[1:])))
+    if sd is None:
+        return words
+    close = [i for i in range(1, len(groups))
+             if abs(means[i] - means[i - 1]) < 2 * sd * (1 / len(groups[i]) + 1 / len(groups[i - 1])) ** 0.5]
+    steps = ", ".join(f"{labels[i - 1]} to {labels[i]}" for i in close)
+    return words + (f" ({steps}: within two standard deviations of the seeds' scatter)" if close else "")
+
+
+def test_weight_checks(struck):
+    """KanMark above Garrison at each drop that both have, the rise with the drop height, on the
+    means of the seeds; and the seeds' scatter where a case ran with more than one."""
+    sd = pooled_sd(list(struck.values()))
+    out = []
+    for model in sorted({k[1] for k in struck}):
+        drops = {s: [d for d in DROPS if (s, model, d) in struck] for s in SAMPLES}
         for drop in (d for d in DROPS if all(d in drops[s] for s in SAMPLES)):
             out.append(f"- KanMark > Garrison, {model}, {drop} (struck, kg/m3): "
-                       + verdict([struck.get((s, model, drop)) for s in SAMPLES], lambda v: v[0] > v[1]))
+                       + ordered([struck[(s, model, drop)] for s in SAMPLES], list(SAMPLES), sd, sign=-1))
         for sample in SAMPLES:  # (over the study's three heights, then over every height run)
             study = [d for d in drops[sample] if d in STUDY_DROPS]
             for ladder in (study, drops[sample]) if drops[sample] != study else (study,):
                 if len(ladder) > 1:
                     out.append(f"- rises with the drop height, {sample} {model} ({', '.join(ladder)}; struck, "
-                               "kg/m3): " + verdict([struck.get((sample, model, d)) for d in ladder],
-                                                    lambda v: all(a < b for a, b in zip(v, v[1:]))))
+                               "kg/m3): " + ordered([struck[(sample, model, d)] for d in ladder], ladder, sd))
+    for (sample, model, drop), values in struck.items():
+        if len(values) > 1 and None not in values:
+            out.append(f"- seeds, {sample} {model} {drop} (struck, kg/m3): " + ", ".join(f"{v:.1f}" for v in values))
+    if sd is not None:
+        out.append(f"- the seeds' scatter: one run's struck density has a standard deviation of {sd:.2f} kg/m3 "
+                   f"(pooled over the cases run with more than one seed)")
     return out
 
 

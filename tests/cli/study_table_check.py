@@ -4,8 +4,9 @@ summaries: every row has its header's cells; kept results are read before run fo
 unfinished case is "not started", "running or stopped" or "parked", an interrupted one or a
 failed one does not count as finished; the checks (KanMark > Garrison, the rise with drop
 height, the rise with pressure) say "holds" or "does NOT hold" from the values and wait for
-every case; the compaction, the overlap's share of it and the time-step span are the
-arithmetic of the values, and so are a test weight against the lab's expectation (also
+every case, on the means of a case's seeds, naming the steps within the seeds' scatter; the
+compaction, the overlap's share of it and the time-step span are the arithmetic of the
+values, and so are a test weight against the lab's expectation (also
 written as a reference table) and the strike's loss; the lab's mixing excess is the special
 cubic of made-up mixtures that follow one exactly; a density over a sensor the grain did not
 fill is marked; without cases the script takes every case it finds.
@@ -97,6 +98,24 @@ expect("| 61.37 | +3.8 | -2.5 |" in row(out, "tw-garrison-1s-1h"),
        "against the lab's expectation (61.37 / 59.15) and the strike (790 / 810)", out)
 expect("kanmark 0.50 %, garrison 0.21 % denser" in out and "expect kanmark 62.15 lb/bu, garrison 59.15 lb/bu" in out,
        "the lab's mixing excess and the expectation", out)
+# seeds: the checks on the means of a case's seeds, and the steps within the seeds' scatter
+# (pooled sd: sqrt((0.5^2 * 2 + 2^2 * 2) / 2) = 2.06; 8h to 32h: 2.5 < 2 x 2.06 x sqrt(1/2 + 1/2);
+# 1h to 8h: 5.5 > 2 x 2.06 x sqrt(1 + 1/2) = 5.05)
+seeds = ["tw-kanmark-1s-8h-seed2", "tw-kanmark-1s-32h-seed2"]
+put(runs, seeds[0], test_weight(806.0))
+put(runs, seeds[1], test_weight(806.0))
+out = table(tw + seeds)
+expect("rises with the drop height, kanmark 1s (1h, 8h, 32h; struck, kg/m3): holds: 800.0, 805.5, 808.0 "
+       "(8h to 32h: within two standard deviations of the seeds' scatter)" in out, "the rise on the seeds' means", out)
+expect("- seeds, kanmark 1s 32h (struck, kg/m3): 810.0, 806.0" in out, "the seeds' values", out)
+expect("a standard deviation of 2.06 kg/m3" in out, "the pooled standard deviation", out)
+expect("| tw-kanmark-1s-8h-seed2 | kanmark | 1s | 8h | 850.0 | 806.0 |" in out, "a seed's row", out)
+put(runs, seeds[1], dict(test_weight(806.0), interrupted=True))
+out = table(tw + seeds)
+expect("kanmark 1s (1h, 8h, 32h; struck, kg/m3): not every case has finished" in out, "a seed not finished", out)
+for c in seeds:
+    shutil.rmtree(os.path.join(runs, c))
+
 # an interrupted case is not finished; a run folder without a summary is running; a parked one
 put(runs, "tw-garrison-1s-8h", dict(test_weight(806.0), interrupted=True))
 os.makedirs(os.path.join(runs, "tw-garrison-1s-32h"))
