@@ -4,7 +4,8 @@ summaries: every row has its header's cells; kept results are read before run fo
 unfinished case is "not started", "running or stopped" or "parked", an interrupted one or a
 failed one does not count as finished; the checks (KanMark > Garrison, the rise with drop
 height, the rise with pressure) say "holds" or "does NOT hold" from the values and wait for
-every case, on the means of a case's seeds, naming the steps within the seeds' scatter; the
+every case, on the means of a case's seeds, naming the steps within the seeds' scatter, and
+the tapping rates are told apart or not against the seeds' scatter; the
 compaction, the overlap's share of it and the time-step span are the arithmetic of the
 values, and so are a test weight against the lab's expectation (also
 written as a reference table) and the strike's loss; the lab's mixing excess is the special
@@ -194,6 +195,29 @@ put(runs, "tap-medium-5s", summary({"loose_bulk_density": 790.0, "tapped_bulk_de
                                     "packing_ratio": 835.0 / 1373, "compressibility": 45 / 835.0}))
 out = table(["tap-medium-5s"])
 expect("| 790.0 | 835.0 | 0.608 | 0.599 | 0.0539 | 0.059 |" in row(out, "tap-medium-5s"), "tapped row", out)
+
+# The tapping rate: the difference of the seeds' means against their pooled scatter
+# (sd: sqrt((1^2 * 2 + 1.5^2 * 2) / 2) = 1.80; the difference's: 1.80 x sqrt(1/2 + 1/2) = 1.80)
+rate = {"tap-rate-4.33hz-seed1": 790.0, "tap-rate-4.33hz-seed2": 792.0, "tap-rate-8.66hz-seed1": 793.5,
+        "tap-rate-8.66hz-seed2": 790.5}
+for case, value in rate.items():
+    put(runs, case, summary({"loose_bulk_density": 770.0, "tapped_bulk_density": value,
+                             "compressibility": (value - 770.0) / value}))
+out = table(sorted(rate))
+expect("| tap-rate-8.66hz-seed2 | 8.66 | 2 | 770.0 | 790.5 | 0.0259 |" in out, "a rate's row", out)
+expect("at 8.66 Hz against 4.33 Hz: +1.0 kg/m3 on the seeds' means; one run's standard deviation 1.8 kg/m3, "
+       "the difference's 1.8: the rates are not told apart" in out, "the rates within the scatter", out)
+# (8.66 Hz: 799.5 and 800.5; sd sqrt((1^2 * 2 + 0.5^2 * 2) / 2) = 1.12; +9.0 > 2 x 1.12)
+put(runs, "tap-rate-8.66hz-seed1", summary({"loose_bulk_density": 770.0, "tapped_bulk_density": 799.5}))
+put(runs, "tap-rate-8.66hz-seed2", summary({"loose_bulk_density": 770.0, "tapped_bulk_density": 800.5}))
+out = table(sorted(rate))
+expect("+9.0 kg/m3 on the seeds' means; one run's standard deviation 1.1 kg/m3, the difference's 1.1: the rates "
+       "are told apart" in out, "rates told apart", out)
+put(runs, "tap-rate-8.66hz-seed2", dict(summary({}), interrupted=True))
+out = table(sorted(rate))
+expect("8.66 Hz against" not in out, "no verdict before every rate case has finished", out)
+for case in rate:
+    shutil.rmtree(os.path.join(runs, case))
 
 # The expected test weights as a reference table for bushel report (docs/report.md).
 out = subprocess.run([sys.executable, script, "--expected", references], check=True, capture_output=True,
