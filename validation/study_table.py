@@ -210,7 +210,18 @@ def pooled_sd(groups):
     dof = sum(len(g) - 1 for g in done)
     if not dof:
         return None
-    return (sum(sum((v - sum(g) / len(g)) ** 2 for v in g) for g in done) / dof) ** 0.5
+    return (sum(sum((v - mean(g)) ** 2 for v in g) for g in done) / dof) ** 0.5
+
+
+def mean(values):
+    return sum(values) / len(values)
+
+
+def apart(a, b, sd):
+    """Whether the means of the runs a and b differ by two standard deviations of their
+    difference or more, one run's being sd; and that standard deviation."""
+    sd_diff = sd * (1 / len(a) + 1 / len(b)) ** 0.5
+    return abs(mean(b) - mean(a)) >= 2 * sd_diff, sd_diff
 
 
 def ordered(groups, labels, sd, sign=1):
@@ -219,12 +230,10 @@ def ordered(groups, labels, sd, sign=1):
     deviations of their difference are named by their labels: they do not tell the order."""
     if any(None in g for g in groups):
         return "not every case has finished"
-    means = [sum(g) / len(g) for g in groups]
-    words = verdict(means, lambda v: all(sign * (b - a) > 0 for a, b in zip(v, v[1:])))
+    words = verdict([mean(g) for g in groups], lambda v: all(sign * (b - a) > 0 for a, b in zip(v, v[1:])))
     if sd is None:
         return words
-    close = [i for i in range(1, len(groups))
-             if abs(means[i] - means[i - 1]) < 2 * sd * (1 / len(groups[i]) + 1 / len(groups[i - 1])) ** 0.5]
+    close = [i for i in range(1, len(groups)) if not apart(groups[i - 1], groups[i], sd)[0]]
     steps = ", ".join(f"{labels[i - 1]} to {labels[i]}" for i in close)
     return words + (f" ({steps}: within two standard deviations of the seeds' scatter)" if close else "")
 
@@ -371,14 +380,13 @@ def tap_rate(cases):
     rates = sorted(tapped, key=float)
     if len(rates) == 2 and all(None not in v for v in tapped.values()):
         a, b = tapped[rates[0]], tapped[rates[1]]
-        diff = sum(b) / len(b) - sum(a) / len(a)
-        line = f"- tapped density at {rates[1]} Hz against {rates[0]} Hz: {diff:+.1f} kg/m3 on the seeds' means"
+        line = (f"- tapped density at {rates[1]} Hz against {rates[0]} Hz: {mean(b) - mean(a):+.1f} kg/m3 on the "
+                "seeds' means")
         sd = pooled_sd([a, b])
         if sd is not None:
-            sd_diff = sd * (1 / len(a) + 1 / len(b)) ** 0.5
-            told = "told apart" if abs(diff) >= 2 * sd_diff else "not told apart (under two standard deviations)"
-            line += (f"; one run's standard deviation {sd:.1f} kg/m3, the difference's {sd_diff:.1f}: "
-                     f"the rates are {told}")
+            told, sd_diff = apart(a, b, sd)
+            line += (f"; one run's standard deviation {sd:.1f} kg/m3, the difference's {sd_diff:.1f}: the rates are "
+                     + ("told apart" if told else "not told apart (under two standard deviations)"))
         out.append(line)
     return out
 
