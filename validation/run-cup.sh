@@ -67,7 +67,10 @@ for c in "${cases[@]}"; do
     echo "$c: finished before, kept ($kept/cup-$c)" >&2
     continue
   fi
-  if run_failed "$kept/cup-$c"; then echo "$c: failed before ($kept/cup-$c/summary.json)" >&2; continue; fi
+  if run_failed "$kept/cup-$c"; then
+    echo "$c: failed before ($kept/cup-$c/summary.json); remove it to run it again" >&2
+    continue
+  fi
   args=(--set parameters.frame_interval=1s)
   for s in ${sets[$c]} ${SET:-}; do
     if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi

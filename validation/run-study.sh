@@ -97,10 +97,10 @@ done
 # twice that, two seeds each. The impact of a tap (a 3 mm free fall) is the same at both; only
 # the slow lift between taps is shorter. Where the tapped density does not tell them apart,
 # the tapped-density cases can run at the faster rate, in half the time.
+reduced_tap="fraction=large $one_large height=30mm mass=110g top_up=40g extension_height=30mm"
 for hz in 4.33 8.66; do
   for seed in 1 2; do
-    add tap-rate "tap-rate-${hz}hz-seed$seed" tapped-density \
-      "fraction=large $one_large height=30mm mass=110g top_up=40g extension_height=30mm tap_frequency=${hz}Hz seed=$seed"
+    add tap-rate "tap-rate-${hz}hz-seed$seed" tapped-density "$reduced_tap tap_frequency=${hz}Hz seed=$seed"
   done
 done
 order=(tw-1s comp-dt tw-seeds comp-1s tap-rate tap-1s tw-5s comp-5s tap-5s tw-extra)
@@ -137,13 +137,18 @@ report() {  # report OUT TITLE CASE...: `bushel report` of those cases that have
   (cd "$root" && "$bushel" report "${dirs[@]}" --out "validation/results/$out" --title "$title" \
     --reference study --reference "$expected")
 }
-reports() {  # the full-size cases, and apart from them the reduced samples of the time-step study
-  local c full=() reduced=()
+reports() {  # the full-size cases, and apart from them each study on a reduced sample
+  local c full=() dt=() rate=()
   for c in "${all[@]}"; do
-    if [[ "$c" == comp-dt-* ]]; then reduced+=("$c"); else full+=("$c"); fi
+    case "$c" in
+      comp-dt-*) dt+=("$c") ;;
+      tap-rate-*) rate+=("$c") ;;
+      *) full+=("$c") ;;
+    esac
   done
   report study "The study's experiments at full size" "${full[@]}"
-  report study-time-step "Compression: the lid's time step (reduced sample)" "${reduced[@]}"
+  report study-time-step "Compression: the lid's time step (reduced sample)" "${dt[@]}"
+  report study-tap-rate "Tapped density: the tapping rate (reduced sample)" "${rate[@]}"
 }
 
 case "${1:-}" in
@@ -168,7 +173,10 @@ done
 
 for c in "${cases[@]}"; do
   if finished "$c"; then echo "$c: finished before, kept ($kept/$c)" >&2; continue; fi
-  if run_failed "$kept/$c"; then echo "$c: failed before ($kept/$c/summary.json); remove it to run it again" >&2; continue; fi
+  if run_failed "$kept/$c"; then
+    echo "$c: failed before ($kept/$c/summary.json); remove it to run it again" >&2
+    continue
+  fi
   args=(--set parameters.frame_interval=1s)
   for s in ${sets[$c]}; do
     if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
