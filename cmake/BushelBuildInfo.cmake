@@ -15,9 +15,13 @@ if(GIT_EXECUTABLE)
 endif()
 if(GIT_EXECUTABLE AND rc EQUAL 0)
   set(commit "${head}")
-  # uncommitted changes to tracked files (untracked ones are not built unless a tracked
-  # CMakeLists.txt names them, which is itself a change)
+  # uncommitted changes to the tracked files the build compiles or embeds (untracked ones are
+  # not built unless a tracked CMakeLists.txt names them, which is itself a change). Docs,
+  # scenarios and the validation tables, which a running study rewrites, do not mark the build.
+  # validation/resume.sh compares two builds' engines over a subset of these (engine_sources).
+  set(built_paths src include apps python cmake CMakeLists.txt CMakePresets.json data)
   execute_process(COMMAND ${GIT_EXECUTABLE} -C ${SOURCE_DIR} status --porcelain --untracked-files=no
+                          -- ${built_paths}
                   OUTPUT_VARIABLE changes RESULT_VARIABLE rc ERROR_QUIET)
   if(NOT rc EQUAL 0 OR NOT changes STREQUAL "")
     set(dirty true)

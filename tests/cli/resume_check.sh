@@ -72,6 +72,23 @@ if last=$(git -C "$src" log -1 --format=%H -- src 2> /dev/null) && [ -n "$last" 
   same_engine "0.1.0 (commit ${parent:0:12})" "0.1.0 (commit ${last:0:12})" || status=$?
   [ "$status" -eq 1 ] || fail "a commit that changed src/ and its parent gave $status, not 1 (engines differ)"
 fi
+# in a repository of its own: a commit that changes only cmake/BushelBuildInfo.cmake (the
+# version text) keeps the engine; one that changes another CMake file does not
+toy="$work/toy-repo"
+mkdir -p "$toy/cmake" && git -C "$toy" init -q
+commit_toy() {
+  echo "$1" >> "$toy/$2"
+  git -C "$toy" add -A && git -C "$toy" -c user.name=test -c user.email=test@example.org commit -q -m "$2"
+  git -C "$toy" rev-parse HEAD
+}
+c0=$(commit_toy start cmake/BushelBuildInfo.cmake)
+c1=$(commit_toy "version text" cmake/BushelBuildInfo.cmake)
+c2=$(commit_toy "-O3" cmake/BushelCompileOptions.cmake)
+(root="$toy" && same_engine "0.1.0 (commit ${c0:0:12})" "0.1.0 (commit ${c1:0:12})") ||
+  fail "a change to cmake/BushelBuildInfo.cmake alone counted as another engine"
+status=0
+(root="$toy" && same_engine "0.1.0 (commit ${c1:0:12})" "0.1.0 (commit ${c2:0:12})") || status=$?
+[ "$status" -eq 1 ] || fail "a change to the compile options gave $status, not 1 (engines differ)"
 # parked and unparked: the same checkpoint and time series in a new folder, which continues;
 # a finished run and one without a checkpoint are not parked
 mkdir -p "$work/empty"
