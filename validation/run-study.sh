@@ -15,6 +15,8 @@
 #   comp-dt   compression of a reduced sample (120 g, 30 mm high, 5 spheres) with the lid's
 #             stages at 2, 5, 10 and 20 % of the critical step
 #   tw-seeds  KanMark's single-sphere test weights again with another seed (a sample's chance)
+#   tw-pure   test weight of each pure fraction at h, single spheres: against the lab's own
+#             measurements, and the mixtures' excess over them
 #   tap-rate  the tapped density of a reduced sample (large, single spheres) tapped at 4.33 and
 #             8.66 Hz, two seeds each: whether the rate between the taps matters
 #   comp-1s   compression at full size, large kernels, single spheres; and the same with
@@ -90,6 +92,11 @@ done
 for h in 1h 8h 32h; do  # (the same runs with another seed: how far a difference is the sample's chance)
   add tw-seeds "tw-kanmark-1s-$h-seed2" test-weight "$one_mix $kanmark drop=${drop[$h]} seed=2"
 done
+declare -A pure=([large]="share_large=100% share_medium=0% share_small=0%"
+  [medium]="share_large=0% share_medium=100% share_small=0%" [small]="share_large=0% share_medium=0% share_small=100%")
+for fraction in large medium small; do  # (its pairs take the fraction's own set, as in one_mix)
+  add tw-pure "tw-$fraction-1s-1h" test-weight "$one_mix ${pure[$fraction]} drop=${drop[1h]}"
+done
 for h in 2h 4h 16h; do
   add tw-extra "tw-kanmark-1s-$h" test-weight "$one_mix $kanmark drop=${drop[$h]}"
 done
@@ -103,7 +110,7 @@ for hz in 4.33 8.66; do
     add tap-rate "tap-rate-${hz}hz-seed$seed" tapped-density "$reduced_tap tap_frequency=${hz}Hz seed=$seed"
   done
 done
-order=(tw-1s comp-dt tw-seeds comp-1s tap-rate tap-1s tw-5s comp-5s tap-5s tw-extra)
+order=(tw-1s comp-dt tw-seeds tw-pure comp-1s tap-rate tap-1s tw-5s comp-5s tap-5s tw-extra)
 all=()
 for g in "${order[@]}"; do read -r -a members <<< "${groups[$g]}"; all+=("${members[@]}"); done
 

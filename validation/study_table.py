@@ -12,7 +12,8 @@ usage: study_table.py RUNS KEPT REFERENCES [CASE...]
               cases, CASE/checkpoint.bin.xz and timeseries.csv.xz of parked ones; a kept
               summary is read before the run folder's
   REFERENCES  data/reference_values.csv
-  CASE        tw-SAMPLE-MODEL-DROP[-seedN] (test weight; with another seed),
+  CASE        tw-SAMPLE-MODEL-DROP[-seedN] (test weight of the sample kanmark or garrison, or of
+              one pure fraction, large, medium or small; with another seed),
               comp-FRACTION-MODEL[-stiff] (compression), comp-dt-PERCENT (its time step),
               tap-FRACTION-MODEL (tapped density), tap-rate-HZhz-seedN (the tapping rate);
               default: every case with a folder in RUNS or KEPT, by name
@@ -74,6 +75,11 @@ def mixing_excess(path, shares):
     coef = np.linalg.lstsq(terms(x), y, rcond=None)[0]
     ideal = 1 / sum(s / p for s, p in zip(shares, coef[:3]))  # (the model's pure fractions)
     return float((terms(np.array(shares)) @ coef)[0]) / ideal - 1
+
+
+def shares_of(sample):
+    """A sample's shares of the fractions, by mass: a variety's, or one pure fraction's."""
+    return SAMPLES.get(sample) or tuple(float(f == sample) for f in FRACTIONS)
 
 
 def ideal_mixture(test_weight, shares):
@@ -168,6 +174,7 @@ def expected(refs):
 def test_weight(cases, refs):
     lab, _, excess = refs
     expect = expected(refs)
+    at_h = dict(expect, **lab)  # (a pure fraction against the lab's measurement)
     out = ["## Test weight per bushel (scenarios/test-weight.yaml)", "",
            "1.1 kg of each sample falls from the drop height into the one-quart kettle, which is struck "
            "level. The lab's test weight at h of the pure fractions: "
@@ -179,15 +186,15 @@ def test_weight(cases, refs):
            + ", ".join(f"{s} {100 * excess[s]:.2f} %" for s in SAMPLES) + " denser than their ideal mixture; "
            "with that excess the lab's data expect "
            + ", ".join(f"{s} {expect[s]:.2f} lb/bu" for s in SAMPLES) + " at h (an estimate: the excess "
-           "was measured tapped, not poured). Strike: the struck density against the kernels centred in the "
+           "was measured tapped, not poured). A pure fraction is set against the lab's measurement. Strike: the struck density against the kernels centred in the "
            "kettle before the strike, when the heap covered it.", ""]
     out += header("| case | sample | model | drop | unstruck [kg/m3] | struck [kg/m3] | test weight [lb/bu] "
-                  "| against the lab's expectation at h [%] | strike [%] | kettle large / medium / small [%] "
+                  "| against the lab at h [%] | strike [%] | kettle large / medium / small [%] "
                   "(sample) | filling time [s] | heap angle [deg]")
     struck = {}  # (sample, model, drop) -> the struck density of each seed [kg/m3], None until done
     for c in cases:
         _, sample, model, drop = c.name.split("-")[:4]
-        shares = " / ".join(f"{100 * s:.1f}" for s in SAMPLES[sample])
+        shares = " / ".join(f"{100 * s:.1f}" for s in shares_of(sample))
         kettle = [c.result("fraction_" + f) for f in FRACTIONS]
         kettle = " / ".join(f"{100 * v:.1f}" for v in kettle) if None not in kettle else ""
         bd, lb, before = (c.result(k) for k in ("bulk_density", "test_weight_lb_bu", "bulk_density_sensor"))
@@ -196,11 +203,11 @@ def test_weight(cases, refs):
         # reaches above the heap on purpose, so never full)
         out.append(f"| {c.name} | {sample} | {model} | {drop} | {fmt(c.result('bulk_density_unstruck'), '.1f')} "
                    f"| {c.cell('bulk_density', '.1f')} | {c.cell('test_weight_lb_bu', '.2f')} "
-                   f"| {fmt(lb and 100 * (lb / expect[sample] - 1), '+.1f')} "
+                   f"| {fmt(lb and 100 * (lb / at_h[sample] - 1), '+.1f')} "
                    f"| {fmt(bd and before and 100 * (bd / before - 1), '+.1f')} | {kettle} ({shares}) "
                    f"| {fmt(c.result('filling_time'), '.2f')} | {fmt(c.result('heap_angle'), '.1f')} " + c.tail())
     out.append("")
-    return out + test_weight_checks(struck)
+    return out + test_weight_checks(struck, excess)
 
 
 def pooled_sd(groups):
@@ -238,12 +245,15 @@ def ordered(groups, labels, sd, sign=1):
     return words + (f" ({steps}: within two standard deviations of the seeds' scatter)" if close else "")
 
 
-def test_weight_checks(struck):
-    """KanMark above Garrison at each drop that both have, the rise with the drop height, on the
-    means of the seeds; and the seeds' scatter where a case ran with more than one."""
+def test_weight_checks(struck, excess):
+    """KanMark above Garrison at each drop that both have, the rise with the drop height, the
+    pure fractions in the lab's order (large > medium > small) and the samples' mixing excess
+    over them against the lab's (excess), on the means of the seeds; and the seeds' scatter
+    where a case ran with more than one."""
     sd = pooled_sd(list(struck.values()))
     out = []
     for model in sorted({k[1] for k in struck}):
+        out += pure_checks(struck, excess, model, sd)
         drops = {s: [d for d in DROPS if (s, model, d) in struck] for s in SAMPLES}
         for drop in (d for d in DROPS if all(d in drops[s] for s in SAMPLES)):
             out.append(f"- KanMark > Garrison, {model}, {drop} (struck, kg/m3): "
@@ -260,6 +270,26 @@ def test_weight_checks(struck):
     if sd is not None:
         out.append(f"- the seeds' scatter: one run's struck density has a standard deviation of {sd:.2f} kg/m3 "
                    f"(pooled over the cases run with more than one seed)")
+    return out
+
+
+def pure_checks(struck, excess, model, sd):
+    """At each drop where the three pure fractions have a case: their order, and how much denser
+    than the ideal mixture of them each sample run at that drop packs (the lab's tapped mixtures:
+    excess)."""
+    out = []
+    for drop in (d for d in DROPS if all((f, model, d) in struck for f in FRACTIONS)):
+        pure = [struck[(f, model, drop)] for f in FRACTIONS]
+        out.append(f"- large > medium > small, {model}, {drop} (struck, kg/m3): "
+                   + ordered(pure, list(FRACTIONS), sd, sign=-1))
+        for sample in (s for s in SAMPLES if (s, model, drop) in struck):
+            runs = struck[(sample, model, drop)]
+            if any(None in g for g in pure + [runs]):
+                continue
+            ideal = ideal_mixture({f: mean(g) for f, g in zip(FRACTIONS, pure)}, SAMPLES[sample])
+            out.append(f"- mixing excess, {sample} {model}, {drop}: {100 * (mean(runs) / ideal - 1):+.2f} % over the "
+                       f"ideal mixture of the model's pure fractions ({ideal:.1f} kg/m3); the lab's tapped "
+                       f"mixtures {100 * excess[sample]:+.2f} %")
     return out
 
 

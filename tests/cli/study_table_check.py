@@ -3,12 +3,13 @@
 summaries: every row has its header's cells; kept results are read before run folders; an
 unfinished case is "not started", "running or stopped" or "parked", an interrupted one or a
 failed one does not count as finished; the checks (KanMark > Garrison, the rise with drop
-height, the rise with pressure) say "holds" or "does NOT hold" from the values and wait for
+height, the pure fractions' order, the rise with pressure) say "holds" or "does NOT hold" from the values and wait for
 every case, on the means of a case's seeds, naming the steps within the seeds' scatter, and
 the tapping rates are told apart or not against the seeds' scatter; the
 compaction, the overlap's share of it and the time-step span are the arithmetic of the
 values, and so are a test weight against the lab's expectation (also
-written as a reference table) and the strike's loss; the lab's mixing excess is the special
+written as a reference table) or, for a pure fraction, its measurement, a sample's mixing excess
+over the pure fractions, and the strike's loss; the lab's mixing excess is the special
 cubic of made-up mixtures that follow one exactly; a density over a sensor the grain did not
 fill is marked; without cases the script takes every case it finds.
 
@@ -115,6 +116,25 @@ put(runs, seeds[1], dict(test_weight(806.0), interrupted=True))
 out = table(tw + seeds)
 expect("kanmark 1s (1h, 8h, 32h; struck, kg/m3): not every case has finished" in out, "a seed not finished", out)
 for c in seeds:
+    shutil.rmtree(os.path.join(runs, c))
+
+# the pure fractions: against the lab's measurement, in the lab's order, and the samples' mixing
+# excess over the ideal mixture of them (KanMark: 1 / (0.815/820 + 0.155/780 + 0.03/750) = 811.28)
+pure = ["tw-large-1s-1h", "tw-medium-1s-1h", "tw-small-1s-1h"]
+for case, value in zip(pure, (820.0, 780.0, 750.0)):
+    put(runs, case, test_weight(value))
+out = table(tw + pure)
+expect("| 63.70 | +1.6 |" in row(out, "tw-large-1s-1h") and "(100.0 / 0.0 / 0.0)" in row(out, "tw-large-1s-1h"),
+       "a pure fraction against the lab's measurement (820 / 12.8719 / 62.69) and its shares", out)
+expect("large > medium > small, 1s, 1h (struck, kg/m3): holds: 820.0, 780.0, 750.0" in out, "the fractions' order", out)
+expect("mixing excess, kanmark 1s, 1h: -1.39 % over the ideal mixture of the model's pure fractions (811.3 kg/m3); "
+       "the lab's tapped mixtures +0.50 %" in out and "mixing excess, garrison 1s, 1h: +0.92 %" in out,
+       "the mixing excess", out)
+expect("8h: -" not in out and "mixing excess, kanmark 1s, 8h" not in out, "no excess without the pure fractions", out)
+put(runs, "tw-small-1s-1h", test_weight(790.0))
+out = table(tw + pure)
+expect("large > medium > small, 1s, 1h (struck, kg/m3): does NOT hold: 820.0, 780.0, 790.0" in out, "out of order", out)
+for c in pure:
     shutil.rmtree(os.path.join(runs, c))
 
 # an interrupted case is not finished; a run folder without a summary is running; a parked one
