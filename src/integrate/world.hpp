@@ -87,7 +87,9 @@ struct PartCandidates {
   std::vector<std::uint32_t> sphere_id;          ///< [c]: its stable id (histories follow it across builds)
   std::vector<std::uint32_t> face_start, faces;  ///< [c]: its faces within the skin (CSR)
   std::vector<double> face_distance;             ///< centre to face at the build [m]
-  std::vector<std::uint32_t> history_start;      ///< [c]: its slots are [history_start[c], history_start[c + 1])
+  /// [c]: its slots are [history_start[c], history_start[c + 1]); {0} before the first build,
+  /// so that a checkpoint of a run stopped before its first step holds a valid empty list
+  std::vector<std::uint32_t> history_start{0};
   std::vector<double> history;                   ///< [slot][3 + history size]
   std::vector<Vec3> reaction;         ///< [2 c]: force on the part [N], its torque about the part origin [N m]
   std::vector<std::uint8_t> touches;  ///< [c]: contacts in the last step
