@@ -43,9 +43,11 @@ run_or_resume next "$work/next" "$cup" --quiet --stop-at 5ms "${sets[@]}" > /dev
   fail "the freed run did not start: $(cat "$work/5.txt")"
 [ -f "$work/next/checkpoint.bin" ] || fail "the freed run did not run"
 # the lock is held by bushel too: to the run's end, even if the script that started it dies
-# (a stand-in for bushel that says when it started, then runs for 5 s)
+# (a stand-in for bushel that says when it started, then runs until the check releases it, or
+# for 60 s: a fixed time could run out on a loaded machine before the check)
 stub="$work/slow-bushel"
-printf '#!/bin/sh\ntouch "%s"\nsleep 5\n' "$work/slow.started" > "$stub"
+printf '#!/bin/sh\ntouch "%s"\nfor i in $(seq 600); do [ -e "%s" ] && exit 0; sleep 0.1; done\n' \
+  "$work/slow.started" "$work/slow.release" > "$stub"
 chmod +x "$stub"
 (bushel="$stub" && run_or_resume slow "$work/slow" "$cup") 2> /dev/null &
 script=$!
@@ -55,6 +57,7 @@ kill "$script" && wait "$script" 2> /dev/null || true
 status=0
 run_or_resume slow "$work/slow" "$cup" 2> "$work/6.txt" || status=$?
 [ "$status" -eq "$run_busy" ] || fail "a run whose script died was not left to its bushel (status $status)"
+touch "$work/slow.release"
 # the build that wrote a checkpoint, and whether two builds have the same engine
 written=$(checkpoint_build "$work/next")
 [ "$written" = "$(this_build)" ] || fail "checkpoint_build gave '$written', not '$(this_build)'"
