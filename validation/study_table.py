@@ -186,8 +186,9 @@ def test_weight(cases, refs):
            + ", ".join(f"{s} {100 * excess[s]:.2f} %" for s in SAMPLES) + " denser than their ideal mixture; "
            "with that excess the lab's data expect "
            + ", ".join(f"{s} {expect[s]:.2f} lb/bu" for s in SAMPLES) + " at h (an estimate: the excess "
-           "was measured tapped, not poured). A pure fraction is set against the lab's measurement. Strike: the struck density against the kernels centred in the "
-           "kettle before the strike, when the heap covered it.", ""]
+           "was measured tapped, not poured). A pure fraction is set against the lab's measurement. "
+           "Strike: the struck density against the kernels centred in the kettle before the strike, when the "
+           "heap covered it.", ""]
     out += header("| case | sample | model | drop | unstruck [kg/m3] | struck [kg/m3] | test weight [lb/bu] "
                   "| against the lab at h [%] | strike [%] | kettle large / medium / small [%] "
                   "(sample) | filling time [s] | heap angle [deg]")

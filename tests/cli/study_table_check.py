@@ -3,8 +3,8 @@
 summaries: every row has its header's cells; kept results are read before run folders; an
 unfinished case is "not started", "running or stopped" or "parked", an interrupted one or a
 failed one does not count as finished; the checks (KanMark > Garrison, the rise with drop
-height, the pure fractions' order, the rise with pressure) say "holds" or "does NOT hold" from the values and wait for
-every case, on the means of a case's seeds, naming the steps within the seeds' scatter, and
+height, the pure fractions' order, the rise with pressure) say "holds" or "does NOT hold" from
+the values and wait for every case, on the means of a case's seeds, naming the steps within the seeds' scatter, and
 the tapping rates are told apart or not against the seeds' scatter; the
 compaction, the overlap's share of it and the time-step span are the arithmetic of the
 values, and so are a test weight against the lab's expectation (also
