@@ -2,8 +2,8 @@
 # The study's drop-height, compression and tapped-density experiments at full size
 # (docs/experiments.md, docs/wheat.md): test weight per bushel of two varieties' samples at
 # three drop heights, confined compression to 138 kPa, loose and tapped density of the three
-# fractions, each with the calibrated single-sphere and 5-sphere models; and a time-step study
-# of the compression on a reduced sample.
+# fractions, each with the calibrated single-sphere and 5-sphere models; and time-step studies
+# of the compression and of the single-sphere test weight on reduced samples.
 #
 #   validation/run-study.sh [CASE|GROUP...]   # default: every case of the groups below, in order
 #   validation/run-study.sh --list            # the cases, their scenario and overrides
@@ -15,6 +15,9 @@
 #   comp-dt   compression of a reduced sample (120 g, 30 mm high, 5 spheres) with the lid's
 #             stages at 2, 5, 10 and 20 % of the critical step
 #   tw-seeds  KanMark's single-sphere test weights again with another seed (a sample's chance)
+#   tw-dt     test weight of a reduced Garrison sample (0.25 kg into a 250 cm3 kettle), single
+#             spheres, at 20, 10 and 5 % of the Rayleigh step, two seeds each: whether the
+#             single-sphere cases' step (above the critical step of the e = 0.1 pairs) matters
 #   tw-pure   test weight of each pure fraction at h, single spheres: against the lab's own
 #             measurements, and the mixtures' excess over them
 #   tap-rate  the tapped density of a reduced sample (large, single spheres) tapped at 4.33 and
@@ -100,6 +103,19 @@ done
 for h in 2h 4h 16h; do
   add tw-extra "tw-kanmark-1s-$h" test-weight "$one_mix $kanmark drop=${drop[$h]}"
 done
+# The single-sphere test weight's time step, on a reduced sample: 0.2 of the Rayleigh step, at
+# which the single-sphere parameters were calibrated, is 1.19 times the critical step of the
+# pairs with restitution 0.1 (their tangential mode, docs/physics.md section 3); 10 and 5 % are
+# 0.59 and 0.30 of it, inside the range the dt-independence study found sound. Garrison, whose
+# medium and small kernels make most of its pairs such pairs; a quarter of the mass into a
+# kettle of 250 cm3 and 60 mm (about the full kettle's shape), two seeds at each step.
+reduced_tw="$one_mix $garrison drop=${drop[1h]} mass=0.25kg kettle_volume=250cm3 kettle_diameter=60mm"
+for percent in 20 10 5; do  # (the cheapest first)
+  for seed in 1 2; do
+    add tw-dt "tw-dt-$percent-seed$seed" test-weight \
+      "$reduced_tw simulation.time_step=$percent%rayleigh seed=$seed"
+  done
+done
 # The tapping rate, on a reduced sample: the same 500 taps of 3 mm at the lab's 4.33 Hz and at
 # twice that, two seeds each. The impact of a tap (a 3 mm free fall) is the same at both; only
 # the slow lift between taps is shorter. Where the tapped density does not tell them apart,
@@ -110,7 +126,7 @@ for hz in 4.33 8.66; do
     add tap-rate "tap-rate-${hz}hz-seed$seed" tapped-density "$reduced_tap tap_frequency=${hz}Hz seed=$seed"
   done
 done
-order=(tw-1s comp-dt tw-seeds tw-pure comp-1s tap-rate tap-1s tw-5s comp-5s tap-5s tw-extra)
+order=(tw-1s comp-dt tw-seeds tw-dt tw-pure comp-1s tap-rate tap-1s tw-5s comp-5s tap-5s tw-extra)
 all=()
 for g in "${order[@]}"; do read -r -a members <<< "${groups[$g]}"; all+=("${members[@]}"); done
 
@@ -145,16 +161,18 @@ report() {  # report OUT TITLE CASE...: `bushel report` of those cases that have
     --reference study --reference "$expected")
 }
 reports() {  # the full-size cases, and apart from them each study on a reduced sample
-  local c full=() dt=() rate=()
+  local c full=() dt=() twdt=() rate=()
   for c in "${all[@]}"; do
     case "$c" in
       comp-dt-*) dt+=("$c") ;;
+      tw-dt-*) twdt+=("$c") ;;
       tap-rate-*) rate+=("$c") ;;
       *) full+=("$c") ;;
     esac
   done
   report study "The study's experiments at full size" "${full[@]}"
   report study-time-step "Compression: the lid's time step (reduced sample)" "${dt[@]}"
+  report study-tw-time-step "Test weight: the time step of single spheres (reduced sample)" "${twdt[@]}"
   report study-tap-rate "Tapped density: the tapping rate (reduced sample)" "${rate[@]}"
 }
 

@@ -13,7 +13,8 @@ usage: study_table.py RUNS KEPT REFERENCES [CASE...]
               summary is read before the run folder's
   REFERENCES  data/reference_values.csv
   CASE        tw-SAMPLE-MODEL-DROP[-seedN] (test weight of the sample kanmark or garrison, or of
-              one pure fraction, large, medium or small; with another seed),
+              one pure fraction, large, medium or small; with another seed), tw-dt-PERCENT-seedN
+              (the single-sphere test weight's time step),
               comp-FRACTION-MODEL[-stiff] (compression), comp-dt-PERCENT (its time step),
               tap-FRACTION-MODEL (tapped density), tap-rate-HZhz-seedN (the tapping rate);
               default: every case with a folder in RUNS or KEPT, by name
@@ -409,16 +410,52 @@ def tap_rate(cases):
                    f"| {c.cell('tapped_bulk_density', '.1f')} | {c.cell('compressibility', '.4f')} " + c.tail())
     out.append("")
     rates = sorted(tapped, key=float)
-    if len(rates) == 2 and all(None not in v for v in tapped.values()):
+    if len(rates) == 2:
         a, b = tapped[rates[0]], tapped[rates[1]]
-        line = (f"- tapped density at {rates[1]} Hz against {rates[0]} Hz: {mean(b) - mean(a):+.1f} kg/m3 on the "
-                "seeds' means")
-        sd = pooled_sd([a, b])
-        if sd is not None:
-            told, sd_diff = apart(a, b, sd)
-            line += (f"; one run's standard deviation {sd:.1f} kg/m3, the difference's {sd_diff:.1f}: the rates are "
-                     + ("told apart" if told else "not told apart (under two standard deviations)"))
-        out.append(line)
+        out += told_apart(f"tapped density at {rates[1]} Hz against {rates[0]} Hz", a, b, pooled_sd([a, b]),
+                          "the rates")
+    return out
+
+
+def told_apart(what, a, b, sd, things):
+    """The difference of the means of the runs b and a [kg/m3] and whether two standard deviations
+    of it (one run's: sd, None where unknown) tell them apart, as a check line; none until every
+    run has finished."""
+    if None in a + b:
+        return []
+    line = f"- {what}: {mean(b) - mean(a):+.1f} kg/m3 ({100 * (mean(b) / mean(a) - 1):+.2f} %) on the seeds' means"
+    if sd is not None:
+        told, sd_diff = apart(a, b, sd)
+        line += (f"; one run's standard deviation {sd:.1f} kg/m3, the difference's {sd_diff:.1f}: {things} are "
+                 + ("told apart" if told else "not told apart (under two standard deviations)"))
+    return [line]
+
+
+def tw_time_step(cases):
+    out = ["## Test weight: the time step of single spheres (reduced sample)", "",
+           "0.25 kg of Garrison's sample, single spheres, from h into a kettle of 250 cm3 and 60 mm, struck "
+           "level, at PERCENT of the Rayleigh step, two seeds each. The single-sphere cases run at 20 %, "
+           "where their parameters were calibrated: above the critical step of the pairs with restitution "
+           "0.1 (their tangential mode, docs/physics.md section 3).", ""]
+    out += header("| case | step [% Rayleigh] | step [critical] | seed | unstruck [kg/m3] | struck [kg/m3] "
+                  "| strike [%] | filling time [s]")
+    struck = {}  # percent -> the struck density of each seed [kg/m3], None until done
+    for c in sorted(cases, key=lambda c: (-int(c.name.split("-")[2]), c.name)):
+        _, _, percent, seed = c.name.split("-")
+        struck.setdefault(int(percent), []).append(c.result("bulk_density") if c.done else None)
+        bd, before = c.result("bulk_density"), c.result("bulk_density_sensor")
+        critical = c.j and c.j["dt_s"] / c.j["critical_step_s"]
+        out.append(f"| {c.name} | {percent} | {fmt(critical, '.2f')} | {seed.removeprefix('seed')} "
+                   f"| {c.cell('bulk_density_unstruck', '.1f')} | {c.cell('bulk_density', '.1f')} "
+                   f"| {fmt(bd and before and 100 * (bd / before - 1), '+.1f')} "
+                   f"| {fmt(c.result('filling_time'), '.2f')} " + c.tail())
+    out.append("")
+    finest = min(struck)
+    sd = pooled_sd(list(struck.values()))
+    for percent in sorted(struck, reverse=True):
+        if percent != finest:
+            out += told_apart(f"struck density at {percent} % against {finest} % of the Rayleigh step",
+                              struck[finest], struck[percent], sd, "the steps")
     return out
 
 
@@ -426,7 +463,8 @@ def tables(runs, kept, reference_csv, names):
     refs = references(reference_csv)
     cases = [Case(runs, kept, n) for n in names]
     groups = [
-        (lambda n: n.startswith("tw-"), lambda cs: test_weight(cs, refs)),
+        (lambda n: n.startswith("tw-") and not n.startswith("tw-dt-"), lambda cs: test_weight(cs, refs)),
+        (lambda n: n.startswith("tw-dt-"), tw_time_step),
         (lambda n: n.startswith("comp-") and not n.startswith("comp-dt-"), compression),
         (lambda n: n.startswith("comp-dt-"), time_step),
         (lambda n: n.startswith("tap-") and not n.startswith("tap-rate-"), lambda cs: tapped(cs, refs)),

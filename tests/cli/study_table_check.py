@@ -5,7 +5,8 @@ unfinished case is "not started", "running or stopped" or "parked", an interrupt
 failed one does not count as finished; the checks (KanMark > Garrison, the rise with drop
 height, the pure fractions' order, the rise with pressure) say "holds" or "does NOT hold" from
 the values and wait for every case, on the means of a case's seeds, naming the steps within the seeds' scatter, and
-the tapping rates are told apart or not against the seeds' scatter; the
+the tapping rates and the test weight's time steps are told apart or not against the seeds'
+scatter; the
 compaction, the overlap's share of it and the time-step span are the arithmetic of the
 values, and so are a test weight against the lab's expectation (also
 written as a reference table) or, for a pure fraction, its measurement, a sample's mixing excess
@@ -31,7 +32,7 @@ failures = []
 def summary(results, interrupted=False, failed=None, stages=()):
     return {"engine": {"builds": ["0.1.0 (commit 0123456789ab)"]}, "interrupted": interrupted, "failed": failed,
             "results": {k: (v if isinstance(v, dict) else {"value": v, "unit": ""}) for k, v in results.items()},
-            "factories": [{"count": 1000}], "dt_s": 5e-6, "time_step_rule": "0.5 critical", "simulated_time_s": 10.0,
+            "factories": [{"count": 1000}], "dt_s": 5e-6, "critical_step_s": 4e-6, "time_step_rule": "0.5 critical", "simulated_time_s": 10.0,
             "wall_time_s": 3600.0, "particle_steps_per_s": 2.0e6, "stages": [{"name": n, "dt_s": d} for n, d in stages]}
 
 
@@ -225,18 +226,41 @@ for case, value in rate.items():
                              "compressibility": (value - 770.0) / value}))
 out = table(sorted(rate))
 expect("| tap-rate-8.66hz-seed2 | 8.66 | 2 | 770.0 | 790.5 | 0.0259 |" in out, "a rate's row", out)
-expect("at 8.66 Hz against 4.33 Hz: +1.0 kg/m3 on the seeds' means; one run's standard deviation 1.8 kg/m3, "
+expect("at 8.66 Hz against 4.33 Hz: +1.0 kg/m3 (+0.13 %) on the seeds' means; one run's standard deviation 1.8 kg/m3, "
        "the difference's 1.8: the rates are not told apart" in out, "the rates within the scatter", out)
 # (8.66 Hz: 799.5 and 800.5; sd sqrt((1^2 * 2 + 0.5^2 * 2) / 2) = 1.12; +9.0 > 2 x 1.12)
 put(runs, "tap-rate-8.66hz-seed1", summary({"loose_bulk_density": 770.0, "tapped_bulk_density": 799.5}))
 put(runs, "tap-rate-8.66hz-seed2", summary({"loose_bulk_density": 770.0, "tapped_bulk_density": 800.5}))
 out = table(sorted(rate))
-expect("+9.0 kg/m3 on the seeds' means; one run's standard deviation 1.1 kg/m3, the difference's 1.1: the rates "
+expect("+9.0 kg/m3 (+1.14 %) on the seeds' means; one run's standard deviation 1.1 kg/m3, the difference's 1.1: the rates "
        "are told apart" in out, "rates told apart", out)
 put(runs, "tap-rate-8.66hz-seed2", dict(summary({}), interrupted=True))
 out = table(sorted(rate))
 expect("8.66 Hz against" not in out, "no verdict before every rate case has finished", out)
 for case in rate:
+    shutil.rmtree(os.path.join(runs, case))
+
+# The single-sphere test weight's time step: each coarser step's seeds against the finest's
+# (sd: sqrt(2) from pairs 2 apart; the difference's: 1.41; 20 %: -4.0 > 2 x 1.41, 10 %: -2.0 not)
+steps = {"tw-dt-20-seed1": 800.0, "tw-dt-20-seed2": 802.0, "tw-dt-10-seed1": 802.0, "tw-dt-10-seed2": 804.0,
+         "tw-dt-5-seed1": 804.0, "tw-dt-5-seed2": 806.0}
+for case, value in steps.items():
+    put(runs, case, dict(test_weight(value), dt_s=int(case.split("-")[2]) * 0.25e-6))
+out = table(sorted(steps))
+lines = [l.split("|")[1].strip() for l in out.splitlines() if l.startswith("| tw-dt-")]
+expect(lines == list(steps), "rows from the coarsest step, by seed", out)
+expect("| tw-dt-20-seed2 | 20 | 1.25 | 2 | 850.0 | 802.0 | -1.0 | 4.00 |" in out,
+       "a step's row: its share of the critical step (5 / 4 us) and the strike (802 / 810)", out)
+expect("- struck density at 20 % against 5 % of the Rayleigh step: -4.0 kg/m3 (-0.50 %) on the seeds' means; one "
+       "run's standard deviation 1.4 kg/m3, the difference's 1.4: the steps are told apart" in out, "20 % told apart", out)
+expect("- struck density at 10 % against 5 % of the Rayleigh step: -2.0 kg/m3 (-0.25 %) on the seeds' means; one "
+       "run's standard deviation 1.4 kg/m3, the difference's 1.4: the steps are not told apart" in out,
+       "10 % not told apart", out)
+expect("Test weight per bushel" not in out and "KanMark" not in out, "not a test-weight sample", out)
+put(runs, "tw-dt-5-seed2", dict(summary({}), interrupted=True))
+out = table(sorted(steps))
+expect("Rayleigh step:" not in out, "no verdict before the finest step has finished", out)
+for case in steps:
     shutil.rmtree(os.path.join(runs, case))
 
 # The expected test weights as a reference table for bushel report (docs/report.md).
