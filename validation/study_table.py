@@ -446,7 +446,7 @@ def tw_time_step(cases):
         bd, before = c.result("bulk_density"), c.result("bulk_density_sensor")
         critical = c.j and c.j["dt_s"] / c.j["critical_step_s"]
         out.append(f"| {c.name} | {percent} | {fmt(critical, '.2f')} | {seed.removeprefix('seed')} "
-                   f"| {c.cell('bulk_density_unstruck', '.1f')} | {c.cell('bulk_density', '.1f')} "
+                   f"| {fmt(c.result('bulk_density_unstruck'), '.1f')} | {c.cell('bulk_density', '.1f')} "
                    f"| {fmt(bd and before and 100 * (bd / before - 1), '+.1f')} "
                    f"| {fmt(c.result('filling_time'), '.2f')} " + c.tail())
     out.append("")
