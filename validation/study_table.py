@@ -434,7 +434,7 @@ def told_apart(what, a, b, sd, things):
 def tw_time_step(cases):
     out = ["## Test weight: the time step of single spheres (reduced sample)", "",
            "0.25 kg of Garrison's sample, single spheres, from h into a kettle of 250 cm3 and 60 mm, struck "
-           "level, at PERCENT of the Rayleigh step, two seeds each. The single-sphere cases run at 20 %, "
+           "level, at PERCENT of the Rayleigh step, three seeds each. The single-sphere cases run at 20 %, "
            "where their parameters were calibrated: above the critical step of the pairs with restitution "
            "0.1 (their tangential mode, docs/physics.md section 3).", ""]
     out += header("| case | step [% Rayleigh] | step [critical] | seed | unstruck [kg/m3] | struck [kg/m3] "
