@@ -144,21 +144,24 @@ table() {  # (through a file of its own: two scripts may write it at once)
   mv "$tmp" "$root/validation/results/study.md"
 }
 # The lab's values: the study's (built in), and the test weights its data expect of the samples
-# (study_table.py --expected).
+# (study_table.py --expected). The reduced samples' studies are drawn without them: their
+# small vessels read apart from the lab by their walls, and compare only with each other.
 expected="$root/validation/results/study-expected.csv"
-report() {  # report OUT TITLE CASE...: `bushel report` of those cases that have finished
-  local out="$1" title="$2" c dirs=()
-  shift 2
+report() {  # report OUT TITLE full|reduced CASE...: `bushel report` of those cases that have finished
+  local out="$1" title="$2" size="$3" c dirs=() refs=(--reference none)
+  shift 3
   for c in "$@"; do
     if finished "$c"; then dirs+=("validation/results/study-runs/$c"); fi
   done
   [ ${#dirs[@]} -gt 0 ] || return 0
-  local tmp
-  tmp=$(mktemp "$expected.XXXXXX")
-  /usr/bin/python3 "$root/validation/study_table.py" --expected "$root/data/reference_values.csv" > "$tmp"
-  mv "$tmp" "$expected"
-  (cd "$root" && "$bushel" report "${dirs[@]}" --out "validation/results/$out" --title "$title" \
-    --reference study --reference "$expected")
+  if [ "$size" = full ]; then
+    local tmp
+    tmp=$(mktemp "$expected.XXXXXX")
+    /usr/bin/python3 "$root/validation/study_table.py" --expected "$root/data/reference_values.csv" > "$tmp"
+    mv "$tmp" "$expected"
+    refs=(--reference study --reference "$expected")
+  fi
+  (cd "$root" && "$bushel" report "${dirs[@]}" --out "validation/results/$out" --title "$title" "${refs[@]}")
 }
 reports() {  # the full-size cases, and apart from them each study on a reduced sample
   local c full=() dt=() twdt=() rate=()
@@ -170,10 +173,10 @@ reports() {  # the full-size cases, and apart from them each study on a reduced 
       *) full+=("$c") ;;
     esac
   done
-  report study "The study's experiments at full size" "${full[@]}"
-  report study-time-step "Compression: the lid's time step (reduced sample)" "${dt[@]}"
-  report study-tw-time-step "Test weight: the time step of single spheres (reduced sample)" "${twdt[@]}"
-  report study-tap-rate "Tapped density: the tapping rate (reduced sample)" "${rate[@]}"
+  report study "The study's experiments at full size" full "${full[@]}"
+  report study-time-step "Compression: the lid's time step (reduced sample)" reduced "${dt[@]}"
+  report study-tw-time-step "Test weight: the time step of single spheres (reduced sample)" reduced "${twdt[@]}"
+  report study-tap-rate "Tapped density: the tapping rate (reduced sample)" reduced "${rate[@]}"
 }
 
 case "${1:-}" in
