@@ -9,6 +9,7 @@
 #   validation/run-study.sh --list            # the cases, their scenario and overrides
 #   validation/run-study.sh --park            # keep the unfinished cases' checkpoints with the results
 #   validation/run-study.sh --table           # only write the table and the report
+#   validation/run-study.sh --validate        # check every case's scenario and overrides
 #
 # Groups, in the default order (single spheres first: they are cheaper):
 #   tw-1s     test weight, KanMark and Garrison at h, 8h and 32h (h = 5.1 cm), single spheres
@@ -50,7 +51,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 bushel="${BUSHEL:-$root/build/release/bin/bushel}"
 runs="$root/runs/validation/study"
 kept="$root/validation/results/study-runs"
-mkdir -p "$runs" "$kept"
+[[ "${1:-}" == --list || "${1:-}" == --validate ]] || mkdir -p "$runs" "$kept"
 source "$root/validation/resume.sh"
 ONE_BUILD=1
 
@@ -179,10 +180,28 @@ reports() {  # the full-size cases, and apart from them each study on a reduced 
   report study-tap-rate "Tapped density: the tapping rate (reduced sample)" reduced "${rate[@]}"
 }
 
+case_args() {  # case_args CASE: the case's overrides as bushel's options, in args
+  local s
+  args=(--set parameters.frame_interval=1s)
+  for s in ${sets[$1]}; do
+    if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
+  done
+}
+validate() {  # `bushel validate` of every case's scenario with its overrides (seconds, not hours)
+  local c
+  for c in "${all[@]}"; do
+    case_args "$c"
+    "$bushel" validate "$root/scenarios/${scenario[$c]}.yaml" "${args[@]}" > /dev/null ||
+      { echo "run-study.sh: case $c does not validate" >&2; return 1; }
+  done
+  echo "all ${#all[@]} cases validate"
+}
+
 case "${1:-}" in
   --list)
     for c in "${all[@]}"; do printf '%-24s %-15s %s\n' "$c" "${scenario[$c]}" "${sets[$c]}"; done
     exit 0 ;;
+  --validate) validate; exit ;;
   --park) park; table; exit 0 ;;
   --table) table; reports; exit 0 ;;
 esac
@@ -205,10 +224,7 @@ for c in "${cases[@]}"; do
     echo "$c: failed before ($kept/$c/summary.json); remove it to run it again" >&2
     continue
   fi
-  args=(--set parameters.frame_interval=1s)
-  for s in ${sets[$c]}; do
-    if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
-  done
+  case_args "$c"
   rc=0
   run_case "$c" "$runs/$c" "$kept/$c" "$root/scenarios/${scenario[$c]}.yaml" "${args[@]}" || rc=$?
   if [ "$rc" -eq "$run_busy" ]; then continue; fi  # (another script runs it: the next case)
