@@ -132,6 +132,12 @@ class Case:
         by = re.search(r"lay ([0-9.]+) mm below", not_full)
         return format(value * scale, spec) + (f" (not full by {by.group(1)} mm)" if by else " (not full)")
 
+    def strike(self):
+        """What the strike cost [%]: the struck density against the kernels centred in the
+        vessel before it, or None."""
+        bd, before = self.result("bulk_density"), self.result("bulk_density_sensor")
+        return bd and before and 100 * (bd / before - 1)
+
     def stage_dt(self, stage):
         """The time step of a stage [s], or None."""
         for s in (self.j or {}).get("stages", []):
@@ -199,14 +205,14 @@ def test_weight(cases, refs):
         shares = " / ".join(f"{100 * s:.1f}" for s in shares_of(sample))
         kettle = [c.result("fraction_" + f) for f in FRACTIONS]
         kettle = " / ".join(f"{100 * v:.1f}" for v in kettle) if None not in kettle else ""
-        bd, lb, before = (c.result(k) for k in ("bulk_density", "test_weight_lb_bu", "bulk_density_sensor"))
+        bd, lb = c.result("bulk_density"), c.result("test_weight_lb_bu")
         struck.setdefault((sample, model, drop), []).append(bd if c.done else None)
         # (unstruck: all the grain in and on the kettle over the kettle's volume, by a sensor that
         # reaches above the heap on purpose, so never full)
         out.append(f"| {c.name} | {sample} | {model} | {drop} | {fmt(c.result('bulk_density_unstruck'), '.1f')} "
                    f"| {c.cell('bulk_density', '.1f')} | {c.cell('test_weight_lb_bu', '.2f')} "
                    f"| {fmt(lb and 100 * (lb / at_h[sample] - 1), '+.1f')} "
-                   f"| {fmt(bd and before and 100 * (bd / before - 1), '+.1f')} | {kettle} ({shares}) "
+                   f"| {fmt(c.strike(), '+.1f')} | {kettle} ({shares}) "
                    f"| {fmt(c.result('filling_time'), '.2f')} | {fmt(c.result('heap_angle'), '.1f')} " + c.tail())
     out.append("")
     return out + test_weight_checks(struck, excess)
@@ -443,11 +449,10 @@ def tw_time_step(cases):
     for c in sorted(cases, key=lambda c: (-int(c.name.split("-")[2]), c.name)):
         _, _, percent, seed = c.name.split("-")
         struck.setdefault(int(percent), []).append(c.result("bulk_density") if c.done else None)
-        bd, before = c.result("bulk_density"), c.result("bulk_density_sensor")
         critical = c.j and c.j["dt_s"] / c.j["critical_step_s"]
         out.append(f"| {c.name} | {percent} | {fmt(critical, '.2f')} | {seed.removeprefix('seed')} "
                    f"| {fmt(c.result('bulk_density_unstruck'), '.1f')} | {c.cell('bulk_density', '.1f')} "
-                   f"| {fmt(bd and before and 100 * (bd / before - 1), '+.1f')} "
+                   f"| {fmt(c.strike(), '+.1f')} "
                    f"| {fmt(c.result('filling_time'), '.2f')} " + c.tail())
     out.append("")
     finest = min(struck)
