@@ -24,6 +24,7 @@ import json
 import os
 import re
 import sys
+from dataclasses import dataclass
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cup_table import engine, exponent, fmt, progress  # noqa: E402
@@ -34,25 +35,38 @@ LEVELS = (0, 7, 21, 34, 48, 69, 103, 138)  # kPa, compression.yaml's p1 .. p7
 DROPS = ("1h", "2h", "4h", "8h", "16h", "32h")  # h = 5.1 cm
 STUDY_DROPS = ("1h", "8h", "32h")  # those of every sample and model (run-study.sh)
 STIFF_OVERLAP = 10 ** (-2 / 3)  # Hertz overlap of kernels ten times stiffer (comp-large-1s-stiff), relative
+KERNEL_DENSITY = 1373.0  # the kernels' solid density [kg/m3] (docs/wheat.md), that of the packing ratio
+LB_BU = 12.8719  # kg/m3 in 1 lb/bu (docs/wheat.md)
+
+
+@dataclass
+class Refs:
+    """The lab values the tables set the cases against (references)."""
+    test_weight: dict  # pure fraction -> its test weight at h [lb/bu]
+    tapped: dict  # (fraction, "packing_ratio" or "compressibility") -> value [-]
+    excess: dict  # sample -> the lab's mixing excess over the ideal mixture at its shares [-]
+    cup: dict  # pure fraction -> its bulk density in the calibration cup [kg/m3]
 
 
 def references(path):
-    """The lab's test weight at h of each pure fraction [lb/bu], and its packing ratio and
-    compressibility of each fraction (tapped density); and per sample the test weight the lab's
-    data let one expect [lb/bu]: the ideal mixture of the pure fractions, made denser by the
-    lab's own mixing excess (mixing_excess, from the ternary mixtures in the same folder)."""
+    """The lab's test weight at h of each pure fraction, its packing ratio and compressibility
+    of each fraction (tapped density) and its calibration cup's bulk density of each; and per
+    sample the lab's own mixing excess (mixing_excess, from the ternary mixtures in the same
+    folder), as Refs."""
     with open(path) as f:
         rows = list(csv.DictReader(l for l in f if not l.startswith("#")))
-    test_weight, tapped = {}, {}
+    refs = Refs({}, {}, {}, {})
     for r in rows:
         if r["scenario"] == "test-weight" and r["result"] == "bulk_density":
             shares = [r["share_" + f] for f in FRACTIONS]
-            test_weight[FRACTIONS[shares.index("100%")]] = float(r["value"])
+            refs.test_weight[FRACTIONS[shares.index("100%")]] = float(r["value"])
         elif r["scenario"] == "tapped-density":
-            tapped[(r["fraction"], r["result"])] = float(r["value"])
+            refs.tapped[(r["fraction"], r["result"])] = float(r["value"])
+        elif r["scenario"] == "calibration-cup" and r["result"] == "bulk_density" and not r["model"]:
+            refs.cup[r["fraction"]] = float(r["value"])
     ternary = os.path.join(os.path.dirname(path), "ternary_packing_compressibility.csv")
-    excess = {s: mixing_excess(ternary, shares) for s, shares in SAMPLES.items()}
-    return test_weight, tapped, excess
+    refs.excess = {s: mixing_excess(ternary, shares) for s, shares in SAMPLES.items()}
+    return refs
 
 
 def mixing_excess(path, shares):
@@ -173,13 +187,13 @@ def verdict(values, holds):
 
 
 def expected(refs):
-    """The test weight at h that the lab's data expect of each sample [lb/bu] (references)."""
-    lab, _, excess = refs
-    return {s: ideal_mixture(lab, shares) * (1 + excess[s]) for s, shares in SAMPLES.items()}
+    """The test weight at h that the lab's data expect of each sample [lb/bu]: the ideal mixture
+    of the lab's pure fractions, made denser by the lab's own mixing excess."""
+    return {s: ideal_mixture(refs.test_weight, shares) * (1 + refs.excess[s]) for s, shares in SAMPLES.items()}
 
 
 def test_weight(cases, refs):
-    lab, _, excess = refs
+    lab, excess = refs.test_weight, refs.excess
     expect = expected(refs)
     at_h = dict(expect, **lab)  # (a pure fraction against the lab's measurement)
     out = ["## Test weight per bushel (scenarios/test-weight.yaml)", "",
@@ -215,7 +229,7 @@ def test_weight(cases, refs):
                    f"| {fmt(c.strike(), '+.1f')} | {kettle} ({shares}) "
                    f"| {fmt(c.result('filling_time'), '.2f')} | {fmt(c.result('heap_angle'), '.1f')} " + c.tail())
     out.append("")
-    return out + test_weight_checks(struck, excess)
+    return out + test_weight_checks(struck, refs)
 
 
 def pooled_sd(groups):
@@ -253,15 +267,15 @@ def ordered(groups, labels, sd, sign=1):
     return words + (f" ({steps}: within two standard deviations of the seeds' scatter)" if close else "")
 
 
-def test_weight_checks(struck, excess):
+def test_weight_checks(struck, refs):
     """KanMark above Garrison at each drop that both have, the rise with the drop height, the
-    pure fractions in the lab's order (large > medium > small) and the samples' mixing excess
-    over them against the lab's (excess), on the means of the seeds; and the seeds' scatter
-    where a case ran with more than one."""
+    pure fractions in the lab's order (large > medium > small), each against the lab's three
+    loose densities of it, and the samples' mixing excess over them against the lab's, on the
+    means of the seeds; and the seeds' scatter where a case ran with more than one."""
     sd = pooled_sd(list(struck.values()))
     out = []
     for model in sorted({k[1] for k in struck}):
-        out += pure_checks(struck, excess, model, sd)
+        out += lab_loose(struck, refs, model) + pure_checks(struck, refs.excess, model, sd)
         drops = {s: [d for d in DROPS if (s, model, d) in struck] for s in SAMPLES}
         for drop in (d for d in DROPS if all(d in drops[s] for s in SAMPLES)):
             out.append(f"- KanMark > Garrison, {model}, {drop} (struck, kg/m3): "
@@ -298,6 +312,25 @@ def pure_checks(struck, excess, model, sd):
             out.append(f"- mixing excess, {sample} {model}, {drop}: {100 * (mean(runs) / ideal - 1):+.2f} % over the "
                        f"ideal mixture of the model's pure fractions ({ideal:.1f} kg/m3); the lab's tapped "
                        f"mixtures {100 * excess[sample]:+.2f} %")
+    return out
+
+
+def lab_loose(struck, refs, model):
+    """Each pure fraction's struck density at h against the lab's three loose densities of it:
+    its kettle (the test weight at h), the loose fill of the tapped-density cylinder (packing
+    ratio x kernel density x (1 - compressibility)) and the calibration cup, on which the
+    model's parameters were calibrated."""
+    out = []
+    for f in FRACTIONS:
+        runs = struck.get((f, model, "1h"))
+        if not runs or None in runs:
+            continue
+        tapped = refs.tapped[(f, "packing_ratio")] * KERNEL_DENSITY * (1 - refs.tapped[(f, "compressibility")])
+        lab = (("its kettle", refs.test_weight[f] * LB_BU), ("the tapped cylinder's loose fill", tapped),
+               ("the calibration cup", refs.cup[f]))
+        m = mean(runs)
+        out.append(f"- the {f} fraction, {model}, 1h: {m:.1f} kg/m3 struck; the lab's loose density of it "
+                   + ", ".join(f"in {where} {v:.1f} ({100 * (m / v - 1):+.1f} %)" for where, v in lab))
     return out
 
 
@@ -384,11 +417,11 @@ def time_step(cases):
 
 
 def tapped(cases, refs):
-    lab = refs[1]
+    lab = refs.tapped
     out = ["## Loose and tapped density (scenarios/tapped-density.yaml)", "",
            "The 400 cm3 cylinder filled through a funnel and struck (loose), topped up in an extension, "
            "tapped 500 times (3 mm, 4.33 Hz) and struck again (tapped). Packing ratio: tapped bulk density "
-           "over the kernels' density (1373 kg/m3); compressibility: (tapped - loose) / tapped.", ""]
+           f"over the kernels' density ({KERNEL_DENSITY:.0f} kg/m3); compressibility: (tapped - loose) / tapped.", ""]
     out += header("| case | fraction | model | loose [kg/m3] | tapped [kg/m3] | packing ratio | lab "
                   "| compressibility | lab")
     for c in cases:

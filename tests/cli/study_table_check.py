@@ -10,7 +10,8 @@ scatter; the
 compaction, the overlap's share of it and the time-step span are the arithmetic of the
 values, and so are a test weight against the lab's expectation (also
 written as a reference table) or, for a pure fraction, its measurement, a sample's mixing excess
-over the pure fractions, and the strike's loss; the lab's mixing excess is the special
+over the pure fractions, a pure fraction against the lab's three loose densities of it, and
+the strike's loss; the lab's mixing excess is the special
 cubic of made-up mixtures that follow one exactly; a density over a sensor the grain did not
 fill is marked; without cases the script takes every case it finds.
 
@@ -132,6 +133,13 @@ expect("mixing excess, kanmark 1s, 1h: -1.39 % over the ideal mixture of the mod
        "the lab's tapped mixtures +0.50 %" in out and "mixing excess, garrison 1s, 1h: +0.92 %" in out,
        "the mixing excess", out)
 expect("8h: -" not in out and "mixing excess, kanmark 1s, 8h" not in out, "no excess without the pure fractions", out)
+# each pure fraction against the lab's three loose densities of it: the kettle (62.69 lb/bu x
+# 12.8719 = 806.9), the tapped cylinder's loose fill (0.633 x 1373 x (1 - 0.051) = 824.8), the cup
+expect("the large fraction, 1s, 1h: 820.0 kg/m3 struck; the lab's loose density of it in its kettle 806.9 (+1.6 %), "
+       "in the tapped cylinder's loose fill 824.8 (-0.6 %), in the calibration cup 826.1 (-0.7 %)" in out
+       and "the medium fraction, 1s, 1h: 780.0 kg/m3 struck; the lab's loose density of it in its kettle 760.9 "
+       "(+2.5 %), in the tapped cylinder's loose fill 773.9 (+0.8 %), in the calibration cup 798.1 (-2.3 %)" in out,
+       "the pure fractions against the lab's loose densities", out)
 put(runs, "tw-small-1s-1h", test_weight(790.0))
 out = table(tw + pure)
 expect("large > medium > small, 1s, 1h (struck, kg/m3): does NOT hold: 820.0, 780.0, 790.0" in out, "out of order", out)
