@@ -375,6 +375,7 @@ def compression(cases):
         if None not in rho:
             out.append(f"- the bulk density rises with every level, {c.name}: "
                        + verdict(rho, lambda v: all(a < b for a, b in zip(v, v[1:]))))
+            out.append(wpacking(c.name, rho))
     soft, stiff = compaction.get("comp-large-1s"), compaction.get("comp-large-1s-stiff")
     if soft and stiff is not None:
         # Hertz: under one load the overlap goes as G^(-2/3), so the stiff kernels still overlap
@@ -387,6 +388,21 @@ def compression(cases):
                    f"kernels' overlap, about {100 * least / (1 - STIFF_OVERLAP):.0f} % if both rearrange alike "
                    f"(the stiff kernels overlap {STIFF_OVERLAP:.2f} times as deep), the rest their rearranging")
     return out
+
+
+def wpacking(name, rho):
+    """The WPACKING form D - D_o = a P + b sqrt(P) (docs/bins.md, at the run's one moisture, so
+    without its c term) fitted to a compression curve by least squares, as a check line: the
+    coefficients `bushel bin --wpacking a,b,0` takes."""
+    import numpy as np
+    p = np.array(LEVELS[1:], dtype=float)
+    rise = np.array(rho[1:]) - rho[0]
+    terms = np.column_stack([p, np.sqrt(p)])
+    a, b = np.linalg.lstsq(terms, rise, rcond=None)[0]
+    worst_residual = float(np.abs(terms @ (a, b) - rise).max())
+    return (f"- WPACKING form, {name}: D - D_o = a P + b sqrt(P) with a = {a:.3f} kg/m3 per kPa, "
+            f"b = {b:.2f} kg/m3 per sqrt(kPa) (least squares over the levels; largest residual "
+            f"{worst_residual:.1f} kg/m3)")
 
 
 def time_step(cases):

@@ -7,7 +7,7 @@ height, the pure fractions' order, the rise with pressure) say "holds" or "does 
 the values and wait for every case, on the means of a case's seeds, naming the steps within the seeds' scatter, and
 the tapping rates and the test weight's time steps are told apart or not against the seeds'
 scatter; the
-compaction, the overlap's share of it and the time-step span are the arithmetic of the
+compaction, the overlap's share of it, the WPACKING fit and the time-step span are the arithmetic of the
 values, and so are a test weight against the lab's expectation (also
 written as a reference table) or, for a pure fraction, its measurement, a sample's mixing excess
 over the pure fractions, a pure fraction against the lab's three loose densities of it, and
@@ -196,6 +196,12 @@ expect("rises with every level, comp-large-5s: does NOT hold" in out, "a fall wi
 expect("compact 2.1 % where the study's compact 10.0 %; of the study's material's compaction at least 79 % is "
        "the kernels' overlap, about 100 % if both rearrange alike (the stiff kernels overlap 0.22 times" in out,
        "the overlap's share: 1 - 2.14/10, over 1 - 10^(-2/3)", out)
+# the WPACKING fit, on a curve that follows D - D_o = 0.2 P + 4 sqrt(P) exactly
+exact = [800.0] + [800.0 + 0.2 * p + 4 * p ** 0.5 for p in (7, 21, 34, 48, 69, 103, 138)]
+put(runs, "comp-large-5s", compression(exact))
+out = table(["comp-large-5s"])
+expect("WPACKING form, comp-large-5s: D - D_o = a P + b sqrt(P) with a = 0.200 kg/m3 per kPa, b = 4.00 kg/m3 "
+       "per sqrt(kPa) (least squares over the levels; largest residual 0.0 kg/m3)" in out, "the WPACKING fit", out)
 
 # The time step: the span at 138 kPa, once every case has finished.
 for percent, top in ((2, 858.0), (5, 858.5), (10, 859.2)):
