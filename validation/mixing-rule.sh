@@ -19,6 +19,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 bushel="${BUSHEL:-$root/build/release/bin/bushel}"
 out="${1:-$root/runs/validation/mixing-rule}"
 jobs="${JOBS:-2}"
+source "$root/validation/resume.sh"  # (set_args)
 
 reduced="model=1s mass=0.25kg kettle_volume=250cm3 kettle_diameter=60mm drop=5.1cm share_small=0%"
 large="fr_ww=0.05 fs_ww=0.172 e_ww=0.5"  # the large pairs' set (docs/wheat.md)
@@ -31,12 +32,11 @@ declare -A sets=(
   [mix-uniform]="$reduced ${rule[uniform]} share_large=80% share_medium=20%"
 )
 
-run_case() {  # run_case CASE
-  local c=$1 s args=()
+run_one() {  # run_one CASE
+  local c=$1 args=()
   [[ -f "$out/$c/summary.json" ]] && return 0
-  for s in ${sets[$c]}; do
-    if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
-  done
+  # shellcheck disable=SC2086  # (the overrides split into words on purpose)
+  set_args ${sets[$c]}
   OMP_NUM_THREADS=1 "$bushel" run "$root/scenarios/test-weight.yaml" --out "$out/$c" --quiet "${args[@]}" \
     > "$out/$c.log" 2>&1 || { echo "mixing-rule.sh: $c failed (log: $out/$c.log)" >&2; return 1; }
 }
@@ -45,7 +45,7 @@ mkdir -p "$out"
 pids=()
 for c in large medium-pair medium-uniform mix-pair mix-uniform; do
   while (( $(jobs -rp | wc -l) >= jobs )); do wait -n; done
-  run_case "$c" &
+  run_one "$c" &
   pids+=($!)
 done
 for p in "${pids[@]}"; do wait "$p"; done

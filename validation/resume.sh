@@ -66,6 +66,15 @@ run_or_resume() { locked "$1" "$2" resume_locked "$@"; }
 # (unpark_run), run_or_resume, and a finished or failed run's summary kept (keep_run).
 run_case() { locked "$1" "$2" case_locked "$@"; }
 
+# set_args OVERRIDE...: each KEY=VALUE appended to the array args as bushel's option: a dotted
+# KEY as written (--set KEY=VALUE), a bare one as a scenario parameter (--set parameters.KEY=VALUE).
+set_args() {
+  local s
+  for s in "$@"; do
+    if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
+  done
+}
+
 # locked LABEL DIR FUNCTION ARGS...: FUNCTION ARGS... while this script holds DIR.lock, or
 # $run_busy where another holds it.
 locked() {

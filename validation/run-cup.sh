@@ -72,9 +72,7 @@ for c in "${cases[@]}"; do
     continue
   fi
   args=(--set parameters.frame_interval=1s)
-  for s in ${sets[$c]} ${SET:-}; do
-    if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
-  done
+  set_args ${sets[$c]} ${SET:-}
   rc=0
   run_case "$c" "$runs/cup-$c" "$kept/cup-$c" "$root/scenarios/calibration-cup.yaml" "${args[@]}" || rc=$?
   if [ "$rc" -eq "$run_busy" ]; then continue; fi  # (another script runs it: the next case)

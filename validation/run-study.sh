@@ -181,11 +181,8 @@ reports() {  # the full-size cases, and apart from them each study on a reduced 
 }
 
 case_args() {  # case_args CASE: the case's overrides as bushel's options, in args
-  local s
   args=(--set parameters.frame_interval=1s)
-  for s in ${sets[$1]}; do
-    if [[ "${s%%=*}" == *.* ]]; then args+=(--set "$s"); else args+=(--set "parameters.$s"); fi
-  done
+  set_args ${sets[$1]}
 }
 validate() {  # `bushel validate` of every case's scenario with its overrides (seconds, not hours)
   local c
