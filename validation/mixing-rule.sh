@@ -11,15 +11,17 @@
 #
 #   validation/mixing-rule.sh [OUT]     # default runs/validation/mixing-rule; prints the table
 #
-# About 0.15 to 0.2 h per run on an idle core; JOBS runs at a time (default 2), one thread each. A run that
-# has finished (OUT/CASE/summary.json) is not run again. BUSHEL: the build (default
-# build/release/bin/bushel).
+# About 0.4 h per run; JOBS runs at a time (default 2), one thread each. As the study's cases
+# (validation/resume.sh, run_or_resume): a finished run is kept, an interrupted one continues
+# from its checkpoint, by the same engine build only (its log, OUT/CASE.log, says so). BUSHEL:
+# the build (default build/release/bin/bushel), of a committed tree.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bushel="${BUSHEL:-$root/build/release/bin/bushel}"
 out="${1:-$root/runs/validation/mixing-rule}"
 jobs="${JOBS:-2}"
-source "$root/validation/resume.sh"  # (set_args)
+source "$root/validation/resume.sh"  # (run_or_resume, set_args)
+ONE_BUILD=1
 
 reduced="model=1s mass=0.25kg kettle_volume=250cm3 kettle_diameter=60mm drop=5.1cm share_small=0%"
 large="fr_ww=0.05 fs_ww=0.172 e_ww=0.5"  # the large pairs' set (docs/wheat.md)
@@ -33,12 +35,11 @@ declare -A sets=(
 )
 
 run_one() {  # run_one CASE
-  local c=$1 args=()
-  [[ -f "$out/$c/summary.json" ]] && return 0
+  local c=$1 args=(--quiet)
   # shellcheck disable=SC2086  # (the overrides split into words on purpose)
   set_args ${sets[$c]}
-  OMP_NUM_THREADS=1 "$bushel" run "$root/scenarios/test-weight.yaml" --out "$out/$c" --quiet "${args[@]}" \
-    > "$out/$c.log" 2>&1 || { echo "mixing-rule.sh: $c failed (log: $out/$c.log)" >&2; return 1; }
+  OMP_NUM_THREADS=1 run_or_resume "$c" "$out/$c" "$root/scenarios/test-weight.yaml" "${args[@]}" \
+    >> "$out/$c.log" 2>&1 || { echo "mixing-rule.sh: $c did not finish (log: $out/$c.log)" >&2; return 1; }
 }
 
 mkdir -p "$out"

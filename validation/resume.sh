@@ -1,5 +1,6 @@
 # Sourced by the validation scripts: runs that survive an interruption (docs/scenarios.md,
-# checkpoints). Needs $bushel, the bushel binary.
+# checkpoints). Needs $bushel, the bushel binary, and $root, the checkout.
+# shellcheck shell=bash disable=SC2154  # ($bushel and $root: set by the script that sources this)
 
 # run_finished DIR: DIR holds a finished run (its summary says it was neither interrupted nor
 # failed).

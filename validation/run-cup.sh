@@ -72,6 +72,7 @@ for c in "${cases[@]}"; do
     continue
   fi
   args=(--set parameters.frame_interval=1s)
+  # shellcheck disable=SC2086  # (the overrides split into words on purpose)
   set_args ${sets[$c]} ${SET:-}
   rc=0
   run_case "$c" "$runs/cup-$c" "$kept/cup-$c" "$root/scenarios/calibration-cup.yaml" "${args[@]}" || rc=$?

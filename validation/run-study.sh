@@ -58,7 +58,9 @@ ONE_BUILD=1
 # The calibrated parameter sets (docs/wheat.md). Single spheres: per pair of fractions; the
 # test weight's mixtures take all three pairs, a one-fraction sample the fraction's own.
 one_large="model=1s fr_ww=0.05 fs_ww=0.172 e_ww=0.5"
+# shellcheck disable=SC2034  # (one_medium and one_small are read by name: ${!v})
 one_medium="model=1s fr_ww=0.05 fs_ww=0.486 e_ww=0.1"
+# shellcheck disable=SC2034
 one_small="model=1s fr_ww=0.10 fs_ww=0.500 e_ww=0.1"
 one_mix="$one_large fr_wm=0.05 fs_wm=0.486 e_wm=0.1 fr_wsm=0.10 fs_wsm=0.500 e_wsm=0.1"
 five="model=5s simulation.time_step=50%critical"
@@ -182,6 +184,7 @@ reports() {  # the full-size cases, and apart from them each study on a reduced 
 
 case_args() {  # case_args CASE: the case's overrides as bushel's options, in args
   args=(--set parameters.frame_interval=1s)
+  # shellcheck disable=SC2086  # (the overrides split into words on purpose)
   set_args ${sets[$1]}
 }
 validate() {  # `bushel validate` of every case's scenario with its overrides (seconds, not hours)
