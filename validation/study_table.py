@@ -152,6 +152,10 @@ class Case:
         bd, before = self.result("bulk_density"), self.result("bulk_density_sensor")
         return bd and before and 100 * (bd / before - 1)
 
+    def parameter(self, key):
+        """A scenario parameter as the run took it (its text), or ''."""
+        return ((self.j or {}).get("parameters") or {}).get(key, "")
+
     def stage_dt(self, stage):
         """The time step of a stage [s], or None."""
         for s in (self.j or {}).get("stages", []):
@@ -436,13 +440,16 @@ def tapped(cases, refs):
     lab = refs.tapped
     out = ["## Loose and tapped density (scenarios/tapped-density.yaml)", "",
            "The 400 cm3 cylinder filled through a funnel and struck (loose), topped up in an extension, "
-           "tapped 500 times (3 mm, 4.33 Hz) and struck again (tapped). Packing ratio: tapped bulk density "
-           f"over the kernels' density ({KERNEL_DENSITY:.0f} kg/m3); compressibility: (tapped - loose) / tapped.", ""]
-    out += header("| case | fraction | model | loose [kg/m3] | tapped [kg/m3] | packing ratio | lab "
+           "tapped (taps of 3 mm at the rate in the row; the lab's 500 at 4.33 Hz) and struck again (tapped). "
+           f"Packing ratio: tapped bulk density over the kernels' density ({KERNEL_DENSITY:.0f} kg/m3); "
+           "compressibility: (tapped - loose) / tapped.", ""]
+    out += header("| case | fraction | model | taps | loose [kg/m3] | tapped [kg/m3] | packing ratio | lab "
                   "| compressibility | lab")
     for c in cases:
         _, fraction, model = c.name.split("-")
-        out.append(f"| {c.name} | {fraction} | {model} | {c.cell('loose_bulk_density', '.1f')} "
+        taps, hz = c.parameter("taps"), c.parameter("tap_frequency")
+        taps = f"{taps} at " + re.sub(r"\s*Hz$", " Hz", hz) if taps and hz else ""
+        out.append(f"| {c.name} | {fraction} | {model} | {taps} | {c.cell('loose_bulk_density', '.1f')} "
                    f"| {c.cell('tapped_bulk_density', '.1f')} | {c.cell('packing_ratio', '.3f')} "
                    f"| {lab.get((fraction, 'packing_ratio'), '')} | {c.cell('compressibility', '.4f')} "
                    f"| {lab.get((fraction, 'compressibility'), '')} " + c.tail())

@@ -226,10 +226,13 @@ expect(names == ["tw-garrison-1s-1h", "tw-garrison-1s-32h", "tw-garrison-1s-8h",
                  "comp-large-5s", "comp-dt-2", "comp-dt-5", "comp-dt-10"], "the cases found, by name", out)
 
 # Tapped density: the lab's packing ratio and compressibility of the fraction beside the run's.
-put(runs, "tap-medium-5s", summary({"loose_bulk_density": 790.0, "tapped_bulk_density": 835.0,
-                                    "packing_ratio": 835.0 / 1373, "compressibility": 45 / 835.0}))
+# The taps and their rate as the run took them (its parameters).
+put(runs, "tap-medium-5s", dict(summary({"loose_bulk_density": 790.0, "tapped_bulk_density": 835.0,
+                                         "packing_ratio": 835.0 / 1373, "compressibility": 45 / 835.0}),
+                                parameters={"taps": "500", "tap_frequency": "8.66Hz"}))
 out = table(["tap-medium-5s"])
-expect("| 790.0 | 835.0 | 0.608 | 0.599 | 0.0539 | 0.059 |" in row(out, "tap-medium-5s"), "tapped row", out)
+expect("| 500 at 8.66 Hz | 790.0 | 835.0 | 0.608 | 0.599 | 0.0539 | 0.059 |" in row(out, "tap-medium-5s"), "tapped row",
+       out)
 
 # The tapping rate: the difference of the seeds' means against their pooled scatter
 # (sd: sqrt((1^2 * 2 + 1.5^2 * 2) / 2) = 1.80; the difference's: 1.80 x sqrt(1/2 + 1/2) = 1.80)
