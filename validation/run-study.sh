@@ -57,11 +57,9 @@ ONE_BUILD=1
 
 # The calibrated parameter sets (docs/wheat.md). Single spheres: per pair of fractions; the
 # test weight's mixtures take all three pairs, a one-fraction sample the fraction's own.
-one_large="model=1s fr_ww=0.05 fs_ww=0.172 e_ww=0.5"
-# shellcheck disable=SC2034  # (one_medium and one_small are read by name: ${!v})
-one_medium="model=1s fr_ww=0.05 fs_ww=0.486 e_ww=0.1"
-# shellcheck disable=SC2034
-one_small="model=1s fr_ww=0.10 fs_ww=0.500 e_ww=0.1"
+declare -A one=([large]="model=1s fr_ww=0.05 fs_ww=0.172 e_ww=0.5"
+  [medium]="model=1s fr_ww=0.05 fs_ww=0.486 e_ww=0.1" [small]="model=1s fr_ww=0.10 fs_ww=0.500 e_ww=0.1")
+one_large=${one[large]}
 one_mix="$one_large fr_wm=0.05 fs_wm=0.486 e_wm=0.1 fr_wsm=0.10 fs_wsm=0.500 e_wsm=0.1"
 five="model=5s simulation.time_step=50%critical"
 kanmark="share_large=81.5% share_medium=15.5% share_small=3%"
@@ -86,7 +84,7 @@ for model in 1s 5s; do
   if [ $model = 1s ]; then m=$one_large; else m=$five; fi
   add "comp-$model" "comp-large-$model" compression "fraction=large $m"
   for fraction in large medium small; do
-    if [ $model = 1s ]; then v="one_$fraction"; m=${!v}; else m=$five; fi
+    if [ $model = 1s ]; then m=${one[$fraction]}; else m=$five; fi
     add "tap-$model" "tap-$fraction-$model" tapped-density "fraction=$fraction $m"
   done
 done
