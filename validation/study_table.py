@@ -150,7 +150,7 @@ class Case:
         """What the strike cost [%]: the struck density against the kernels centred in the
         vessel before it, or None."""
         bd, before = self.result("bulk_density"), self.result("bulk_density_sensor")
-        return bd and before and 100 * (bd / before - 1)
+        return over(bd, before)
 
     def parameter(self, key):
         """A scenario parameter as the run took it (its text), or ''."""
@@ -183,11 +183,16 @@ def header(columns):
     return [cells, "|" + "---|" * (cells.count("|") - 1)]
 
 
-def verdict(values, holds):
+def verdict(values, holds, spec=".1f"):
     """'holds: a, b, c' / 'does NOT hold: ...' / 'not every case has finished'."""
     if None in values:
         return "not every case has finished"
-    return ("holds" if holds(values) else "does NOT hold") + ": " + ", ".join(f"{v:.1f}" for v in values)
+    return ("holds" if holds(values) else "does NOT hold") + ": " + ", ".join(format(v, spec) for v in values)
+
+
+def over(value, lab):
+    """How far value lies over lab [%], or None where either is missing."""
+    return value and lab and 100 * (value / lab - 1)
 
 
 def expected(refs):
@@ -229,7 +234,7 @@ def test_weight(cases, refs):
         # reaches above the heap on purpose, so never full)
         out.append(f"| {c.name} | {sample} | {model} | {drop} | {fmt(c.result('bulk_density_unstruck'), '.1f')} "
                    f"| {c.cell('bulk_density', '.1f')} | {c.cell('test_weight_lb_bu', '.2f')} "
-                   f"| {fmt(lb and 100 * (lb / at_h[sample] - 1), '+.1f')} "
+                   f"| {fmt(over(lb, at_h[sample]), '+.1f')} "
                    f"| {fmt(c.strike(), '+.1f')} | {kettle} ({shares}) "
                    f"| {fmt(c.result('filling_time'), '.2f')} | {fmt(c.result('heap_angle'), '.1f')} " + c.tail())
     out.append("")
@@ -329,8 +334,8 @@ def lab_loose(struck, refs, model):
         runs = struck.get((f, model, "1h"))
         if not runs or None in runs:
             continue
-        tapped = refs.tapped[(f, "packing_ratio")] * KERNEL_DENSITY * (1 - refs.tapped[(f, "compressibility")])
-        lab = (("its kettle", refs.test_weight[f] * LB_BU), ("the tapped cylinder's loose fill", tapped),
+        lab = (("its kettle", refs.test_weight[f] * LB_BU),
+               ("the tapped cylinder's loose fill", lab_cylinder(refs.tapped, f)[0]),
                ("the calibration cup", refs.cup[f]))
         m = mean(runs)
         out.append(f"- the {f} fraction, {model}, 1h: {m:.1f} kg/m3 struck; the lab's loose density of it "
@@ -436,24 +441,56 @@ def time_step(cases):
     return out
 
 
+def lab_cylinder(lab, fraction):
+    """The lab's loose and tapped density of a fraction in the tapped-density cylinder [kg/m3]:
+    packing ratio x kernel density x (1 - compressibility), and packing ratio x kernel density;
+    (None, None) where the references lack either."""
+    ratio, c = lab.get((fraction, "packing_ratio")), lab.get((fraction, "compressibility"))
+    if ratio is None or c is None:
+        return None, None
+    return ratio * KERNEL_DENSITY * (1 - c), ratio * KERNEL_DENSITY
+
+
 def tapped(cases, refs):
     lab = refs.tapped
     out = ["## Loose and tapped density (scenarios/tapped-density.yaml)", "",
            "The 400 cm3 cylinder filled through a funnel and struck (loose), topped up in an extension, "
            "tapped (taps of 3 mm at the rate in the row; the lab's 500 at 4.33 Hz) and struck again (tapped). "
            f"Packing ratio: tapped bulk density over the kernels' density ({KERNEL_DENSITY:.0f} kg/m3); "
-           "compressibility: (tapped - loose) / tapped.", ""]
-    out += header("| case | fraction | model | taps | loose [kg/m3] | tapped [kg/m3] | packing ratio | lab "
-                  "| compressibility | lab")
+           "compressibility: (tapped - loose) / tapped. The lab's values are those of KanMark's sieve "
+           "fractions (data/reference_values.csv); its loose density is packing ratio x kernels' density x "
+           "(1 - compressibility).", ""]
+    out += header("| case | fraction | model | taps | loose [kg/m3] | lab | against the lab [%] | tapped [kg/m3] "
+                  "| packing ratio | lab | against the lab [%] | compressibility | lab")
+    ratios, compress = {}, {}  # (model, fraction) -> the case's value [-], None until done
     for c in cases:
         _, fraction, model = c.name.split("-")
         taps, hz = c.parameter("taps"), c.parameter("tap_frequency")
         taps = f"{taps} at " + re.sub(r"\s*Hz$", " Hz", hz) if taps and hz else ""
+        loose, ratio = c.result("loose_bulk_density"), c.result("packing_ratio")
+        lab_loose_fill, lab_ratio = lab_cylinder(lab, fraction)[0], lab.get((fraction, "packing_ratio"))
+        ratios[(model, fraction)] = ratio if c.done else None
+        compress[(model, fraction)] = c.result("compressibility") if c.done else None
         out.append(f"| {c.name} | {fraction} | {model} | {taps} | {c.cell('loose_bulk_density', '.1f')} "
+                   f"| {fmt(lab_loose_fill, '.1f')} | {fmt(over(loose, lab_loose_fill), '+.1f')} "
                    f"| {c.cell('tapped_bulk_density', '.1f')} | {c.cell('packing_ratio', '.3f')} "
-                   f"| {lab.get((fraction, 'packing_ratio'), '')} | {c.cell('compressibility', '.4f')} "
-                   f"| {lab.get((fraction, 'compressibility'), '')} " + c.tail())
+                   f"| {fmt(lab_ratio, '')} | {fmt(over(ratio, lab_ratio), '+.1f')} "
+                   f"| {c.cell('compressibility', '.4f')} | {fmt(lab.get((fraction, 'compressibility')), '')} "
+                   + c.tail())
+    out.append("")
+    for model in sorted({m for m, _ in ratios}):
+        if all((model, f) in ratios for f in FRACTIONS):
+            out += [tapped_order("packing ratio, large > medium > small", model, ratios, lab, "packing_ratio", -1),
+                    tapped_order("compressibility, large < medium < small", model, compress, lab, "compressibility", 1)]
     return out
+
+
+def tapped_order(what, model, values, lab, key, sign):
+    """The check that the three fractions' values run in the lab's order (falling with sign -1,
+    rising with 1), as a line with the lab's values beside."""
+    v = [values[(model, f)] for f in FRACTIONS]
+    words = verdict(v, lambda v: all(sign * (b - a) > 0 for a, b in zip(v, v[1:])), ".3f")
+    return f"- {what}, {model}: {words}; the lab: " + ", ".join(f"{lab[(f, key)]:.3f}" for f in FRACTIONS)
 
 
 def tap_rate(cases):

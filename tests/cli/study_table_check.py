@@ -3,7 +3,8 @@
 summaries: every row has its header's cells; kept results are read before run folders; an
 unfinished case is "not started", "running or stopped" or "parked", an interrupted one or a
 failed one does not count as finished; the checks (KanMark > Garrison, the rise with drop
-height, the pure fractions' order, the rise with pressure) say "holds" or "does NOT hold" from
+height, the pure fractions' order, the rise with pressure, the tapped fractions'
+packing ratio and compressibility in the lab's order) say "holds" or "does NOT hold" from
 the values and wait for every case, on the means of a case's seeds, naming the steps within the seeds' scatter, and
 the tapping rates and the test weight's time steps are told apart or not against the seeds'
 scatter; the
@@ -231,8 +232,34 @@ put(runs, "tap-medium-5s", dict(summary({"loose_bulk_density": 790.0, "tapped_bu
                                          "packing_ratio": 835.0 / 1373, "compressibility": 45 / 835.0}),
                                 parameters={"taps": "500", "tap_frequency": "8.66Hz"}))
 out = table(["tap-medium-5s"])
-expect("| 500 at 8.66 Hz | 790.0 | 835.0 | 0.608 | 0.599 | 0.0539 | 0.059 |" in row(out, "tap-medium-5s"), "tapped row",
-       out)
+# (the lab's loose fill of the medium kernels: 0.599 x 1373 x (1 - 0.059) = 773.9 kg/m3, 790 on it
+# +2.1 %; the packing ratio 835 / 1373 = 0.608 on the lab's 0.599: +1.5 %)
+expect("| 500 at 8.66 Hz | 790.0 | 773.9 | +2.1 | 835.0 | 0.608 | 0.599 | +1.5 | 0.0539 | 0.059 |"
+       in row(out, "tap-medium-5s"), "tapped row", out)
+expect("packing ratio, large" not in out, "no order check before the three fractions have cases", out)
+
+
+def tap(loose, tapped):
+    return summary({"loose_bulk_density": loose, "tapped_bulk_density": tapped, "packing_ratio": tapped / 1373,
+                    "compressibility": (tapped - loose) / tapped})
+
+
+# The fractions' order, the lab's: packing ratio falling, compressibility rising from large to small.
+put(runs, "tap-large-5s", dict(summary({}), interrupted=True))
+put(runs, "tap-small-5s", tap(760.0, 810.0))
+out = table(["tap-large-5s", "tap-medium-5s", "tap-small-5s"])
+expect("- packing ratio, large > medium > small, 5s: not every case has finished; the lab: 0.633, 0.599, 0.557"
+       in out, "the order waits for every fraction", out)
+put(runs, "tap-large-5s", tap(820.0, 860.0))
+out = table(["tap-large-5s", "tap-medium-5s", "tap-small-5s"])
+expect("- packing ratio, large > medium > small, 5s: holds: 0.626, 0.608, 0.590; the lab: 0.633, 0.599, 0.557" in out
+       and "- compressibility, large < medium < small, 5s: holds: 0.047, 0.054, 0.062; the lab: 0.051, 0.059, 0.064"
+       in out, "the fractions' order", out)
+put(runs, "tap-small-5s", tap(815.0, 850.0))
+out = table(["tap-large-5s", "tap-medium-5s", "tap-small-5s"])
+expect("- packing ratio, large > medium > small, 5s: does NOT hold: 0.626, 0.608, 0.619" in out
+       and "- compressibility, large < medium < small, 5s: does NOT hold: 0.047, 0.054, 0.041" in out,
+       "the fractions out of order", out)
 
 # The tapping rate: the difference of the seeds' means against their pooled scatter
 # (sd: sqrt((1^2 * 2 + 1.5^2 * 2) / 2) = 1.80; the difference's: 1.80 x sqrt(1/2 + 1/2) = 1.80)
