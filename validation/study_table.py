@@ -16,7 +16,8 @@ usage: study_table.py RUNS KEPT REFERENCES [CASE...]
               one pure fraction, large, medium or small; with another seed), tw-dt-PERCENT-seedN
               (the single-sphere test weight's time step),
               comp-FRACTION-MODEL[-stiff] (compression), comp-dt-PERCENT (its time step),
-              tap-FRACTION-MODEL (tapped density), tap-rate-HZhz-seedN (the tapping rate);
+              tap-FRACTION-MODEL[-HZhz] (tapped density; at another rate), tap-rate-HZhz-seedN (the
+              tapping rate, reduced);
               default: every case with a folder in RUNS or KEPT, by name
 """
 import csv
@@ -156,12 +157,16 @@ class Case:
         """A scenario parameter as the run took it (its text), or ''."""
         return ((self.j or {}).get("parameters") or {}).get(key, "")
 
-    def stage_dt(self, stage):
-        """The time step of a stage [s], or None."""
-        for s in (self.j or {}).get("stages", []):
-            if s["name"] == stage:
-                return s.get("dt_s")
-        return None
+    def stage(self, name):
+        """A stage's record in the summary (dt_s, values at its end, ...), or {}."""
+        return next((s for s in (self.j or {}).get("stages", []) if s["name"] == name), {})
+
+    def tap_strike(self, which):
+        """What the strike that gave the loose or the tapped density cost [%]: that density against
+        the kernels centred in the cylinder at the end of the stage before the strike, when the
+        grain still stood above the rim (tapped-density.yaml's rest and unextended); or None."""
+        before = self.stage({"loose": "rest", "tapped": "unextended"}[which]).get("values", {})
+        return over(self.result(which + "_bulk_density"), before.get("cylinder.bulk_density"))
 
     def tail(self):
         """The columns every table ends with: particles, time step, simulated and wall time,
@@ -430,7 +435,7 @@ def time_step(cases):
         if c.done:
             top.append(rho)
         diff = f"{100 * (rho - finest) / finest:+.2f}" if rho and finest else ""
-        dt = c.stage_dt("hold_7")
+        dt = c.stage("hold_7").get("dt_s")
         out.append(f"| {c.name} | {c.name.split('-')[2]} | {fmt(dt and dt * 1e6, '.3f')} "
                    f"| {c.cell('bulk_density_0', '.1f')} | {c.cell('bulk_density_7', '.1f')} | {diff} "
                    f"| {fmt(c.result('unbalanced_7') and exponent(c.result('unbalanced_7'), 2), '')} " + c.tail())
@@ -461,28 +466,52 @@ def tapped(cases, refs):
            "fractions (data/reference_values.csv); its loose density is packing ratio x kernels' density x "
            "(1 - compressibility).", ""]
     out += header("| case | fraction | model | taps | loose [kg/m3] | lab | against the lab [%] | tapped [kg/m3] "
-                  "| packing ratio | lab | against the lab [%] | compressibility | lab")
-    ratios, compress = {}, {}  # (model, fraction) -> the case's value [-], None until done
+                  "| packing ratio | lab | against the lab [%] | compressibility | lab | strike loose / tapped [%]")
+    ratios, compress = {}, {}  # (model, fraction) at the lab's rate -> the case's value [-], None until done
     for c in cases:
-        _, fraction, model = c.name.split("-")
+        _, fraction, model = c.name.split("-")[:3]
         taps, hz = c.parameter("taps"), c.parameter("tap_frequency")
         taps = f"{taps} at " + re.sub(r"\s*Hz$", " Hz", hz) if taps and hz else ""
         loose, ratio = c.result("loose_bulk_density"), c.result("packing_ratio")
         lab_loose_fill, lab_ratio = lab_cylinder(lab, fraction)[0], lab.get((fraction, "packing_ratio"))
-        ratios[(model, fraction)] = ratio if c.done else None
-        compress[(model, fraction)] = c.result("compressibility") if c.done else None
+        if c.name.count("-") == 2:  # (not a case tapped at another rate)
+            ratios[(model, fraction)] = ratio if c.done else None
+            compress[(model, fraction)] = c.result("compressibility") if c.done else None
         out.append(f"| {c.name} | {fraction} | {model} | {taps} | {c.cell('loose_bulk_density', '.1f')} "
                    f"| {fmt(lab_loose_fill, '.1f')} | {fmt(over(loose, lab_loose_fill), '+.1f')} "
                    f"| {c.cell('tapped_bulk_density', '.1f')} | {c.cell('packing_ratio', '.3f')} "
                    f"| {fmt(lab_ratio, '')} | {fmt(over(ratio, lab_ratio), '+.1f')} "
                    f"| {c.cell('compressibility', '.4f')} | {fmt(lab.get((fraction, 'compressibility')), '')} "
-                   + c.tail())
+                   f"| {strikes(c)} " + c.tail())
     out.append("")
     for model in sorted({m for m, _ in ratios}):
         if all((model, f) in ratios for f in FRACTIONS):
             out += [tapped_order("packing ratio, large > medium > small", model, ratios, lab, "packing_ratio", -1),
                     tapped_order("compressibility, large < medium < small", model, compress, lab, "compressibility", 1)]
+    named = {c.name: c for c in cases}
+    for c in (c for c in cases if c.name.count("-") == 3):  # tap-FRACTION-MODEL-HZhz against tap-FRACTION-MODEL
+        twin = named.get(c.name.rsplit("-", 1)[0])
+        if twin is not None:
+            out.append(other_rate(c, twin))
     return out
+
+
+def other_rate(c, twin):
+    """A case tapped at another rate against its twin at the lab's rate (the same loose fill), as
+    a check line."""
+    what = f"- {c.name} against {twin.name}: "
+    if not (c.done and twin.done):
+        return what + "not every case has finished"
+    a, b = twin.result("tapped_bulk_density"), c.result("tapped_bulk_density")
+    return (what + f"loose {twin.result('loose_bulk_density'):.1f} and {c.result('loose_bulk_density'):.1f} kg/m3, "
+            f"tapped {a:.1f} and {b:.1f} ({b - a:+.1f} kg/m3, {over(b, a):+.2f} %), compressibility "
+            f"{twin.result('compressibility'):.4f} and {c.result('compressibility'):.4f}")
+
+
+def strikes(c):
+    """What the loose and the tapped strike cost [%], as 'LOOSE / TAPPED', or ''."""
+    loose, tapped = c.tap_strike("loose"), c.tap_strike("tapped")
+    return f"{loose:+.1f} / {tapped:+.1f}" if loose is not None and tapped is not None else ""
 
 
 def tapped_order(what, model, values, lab, key, sign):
@@ -498,21 +527,26 @@ def tap_rate(cases):
            "110 g of large single-sphere kernels into the cylinder cut to 30 mm, 40 g more into a 30 mm "
            "extension, 500 taps of 3 mm at the lab's 4.33 Hz and at 8.66 Hz, two seeds each. Each tap's "
            "impact (a 3 mm free fall) is the same at both rates; only the slow lift between taps is "
-           "shorter.", ""]
-    out += header("| case | rate [Hz] | seed | loose [kg/m3] | tapped [kg/m3] | compressibility")
-    tapped = {}  # rate -> the tapped density of each seed [kg/m3], None until done
+           "shorter. Before the strike: the kernels centred in the cylinder once the extension is off, "
+           "the tapped grain still above the rim; the strike: the tapped density against it.", ""]
+    out += header("| case | rate [Hz] | seed | loose [kg/m3] | before the strike [kg/m3] | tapped [kg/m3] "
+                  "| strike [%] | compressibility")
+    tapped, before = {}, {}  # rate -> the density of each seed [kg/m3], None until done
     for c in cases:
         _, _, rate, seed = c.name.split("-")
         rate, seed = rate.removesuffix("hz"), seed.removeprefix("seed")
+        pre = c.stage("unextended").get("values", {}).get("cylinder.bulk_density")
         tapped.setdefault(rate, []).append(c.result("tapped_bulk_density") if c.done else None)
-        out.append(f"| {c.name} | {rate} | {seed} | {c.cell('loose_bulk_density', '.1f')} "
-                   f"| {c.cell('tapped_bulk_density', '.1f')} | {c.cell('compressibility', '.4f')} " + c.tail())
+        before.setdefault(rate, []).append(pre if c.done else None)
+        out.append(f"| {c.name} | {rate} | {seed} | {c.cell('loose_bulk_density', '.1f')} | {fmt(pre, '.1f')} "
+                   f"| {c.cell('tapped_bulk_density', '.1f')} | {fmt(c.tap_strike('tapped'), '+.1f')} "
+                   f"| {c.cell('compressibility', '.4f')} " + c.tail())
     out.append("")
     rates = sorted(tapped, key=float)
     if len(rates) == 2:
-        a, b = tapped[rates[0]], tapped[rates[1]]
-        out += told_apart(f"tapped density at {rates[1]} Hz against {rates[0]} Hz", a, b, pooled_sd([a, b]),
-                          "the rates")
+        for what, d in (("tapped density", tapped), ("density before the strike", before)):
+            a, b = d[rates[0]], d[rates[1]]
+            out += told_apart(f"{what} at {rates[1]} Hz against {rates[0]} Hz", a, b, pooled_sd([a, b]), "the rates")
     return out
 
 

@@ -4,7 +4,8 @@ summaries: every row has its header's cells; kept results are read before run fo
 unfinished case is "not started", "running or stopped" or "parked", an interrupted one or a
 failed one does not count as finished; the checks (KanMark > Garrison, the rise with drop
 height, the pure fractions' order, the rise with pressure, the tapped fractions'
-packing ratio and compressibility in the lab's order) say "holds" or "does NOT hold" from
+packing ratio and compressibility in the lab's order, a case tapped at another rate against its
+twin) say "holds" or "does NOT hold" from
 the values and wait for every case, on the means of a case's seeds, naming the steps within the seeds' scatter, and
 the tapping rates and the test weight's time steps are told apart or not against the seeds'
 scatter; the
@@ -35,7 +36,7 @@ def summary(results, interrupted=False, failed=None, stages=()):
     return {"engine": {"builds": ["0.1.0 (commit 0123456789ab)"]}, "interrupted": interrupted, "failed": failed,
             "results": {k: (v if isinstance(v, dict) else {"value": v, "unit": ""}) for k, v in results.items()},
             "factories": [{"count": 1000}], "dt_s": 5e-6, "critical_step_s": 4e-6, "time_step_rule": "0.5 critical", "simulated_time_s": 10.0,
-            "wall_time_s": 3600.0, "particle_steps_per_s": 2.0e6, "stages": [{"name": n, "dt_s": d} for n, d in stages]}
+            "wall_time_s": 3600.0, "particle_steps_per_s": 2.0e6, "stages": [{"name": n, "dt_s": d, "values": v[0] if v else {}} for n, d, *v in stages]}
 
 
 def put(folder, case, s):
@@ -239,9 +240,11 @@ expect("| 500 at 8.66 Hz | 790.0 | 773.9 | +2.1 | 835.0 | 0.608 | 0.599 | +1.5 |
 expect("packing ratio, large" not in out, "no order check before the three fractions have cases", out)
 
 
-def tap(loose, tapped):
+def tap(loose, tapped):  # (before the strikes: 40 and 45 kg/m3 denser)
     return summary({"loose_bulk_density": loose, "tapped_bulk_density": tapped, "packing_ratio": tapped / 1373,
-                    "compressibility": (tapped - loose) / tapped})
+                    "compressibility": (tapped - loose) / tapped},
+                   stages=[("rest", 1e-5, {"cylinder.bulk_density": loose + 40}),
+                           ("unextended", 1e-5, {"cylinder.bulk_density": tapped + 45})])
 
 
 # The fractions' order, the lab's: packing ratio falling, compressibility rising from large to small.
@@ -255,21 +258,37 @@ out = table(["tap-large-5s", "tap-medium-5s", "tap-small-5s"])
 expect("- packing ratio, large > medium > small, 5s: holds: 0.626, 0.608, 0.590; the lab: 0.633, 0.599, 0.557" in out
        and "- compressibility, large < medium < small, 5s: holds: 0.047, 0.054, 0.062; the lab: 0.051, 0.059, 0.064"
        in out, "the fractions' order", out)
+# (the strikes: 820 / 860 - 1 = -4.7 %, 860 / 905 - 1 = -5.0 %)
+expect("| 0.0465 | 0.051 | -4.7 / -5.0 |" in row(out, "tap-large-5s"), "the strikes' cost", out)
 put(runs, "tap-small-5s", tap(815.0, 850.0))
 out = table(["tap-large-5s", "tap-medium-5s", "tap-small-5s"])
 expect("- packing ratio, large > medium > small, 5s: does NOT hold: 0.626, 0.608, 0.619" in out
        and "- compressibility, large < medium < small, 5s: does NOT hold: 0.047, 0.054, 0.041" in out,
        "the fractions out of order", out)
+# A case tapped at another rate: set against its twin at the lab's rate, outside the order check.
+put(runs, "tap-large-5s-8.66hz", dict(summary({}), interrupted=True))
+names = ["tap-large-5s-8.66hz", "tap-large-5s", "tap-medium-5s", "tap-small-5s"]
+out = table(names)
+expect("- tap-large-5s-8.66hz against tap-large-5s: not every case has finished" in out, "the rate waits", out)
+put(runs, "tap-large-5s-8.66hz", tap(820.0, 880.0))
+out = table(names)
+expect("- tap-large-5s-8.66hz against tap-large-5s: loose 820.0 and 820.0 kg/m3, tapped 860.0 and 880.0 "
+       "(+20.0 kg/m3, +2.33 %), compressibility 0.0465 and 0.0682" in out
+       and "5s: does NOT hold: 0.626, 0.608, 0.619" in out, "another rate against the lab's", out)
 
 # The tapping rate: the difference of the seeds' means against their pooled scatter
 # (sd: sqrt((1^2 * 2 + 1.5^2 * 2) / 2) = 1.80; the difference's: 1.80 x sqrt(1/2 + 1/2) = 1.80)
 rate = {"tap-rate-4.33hz-seed1": 790.0, "tap-rate-4.33hz-seed2": 792.0, "tap-rate-8.66hz-seed1": 793.5,
         "tap-rate-8.66hz-seed2": 790.5}
+# Before the strike (the end of the stage unextended): the tapped density + 50 kg/m3.
 for case, value in rate.items():
     put(runs, case, summary({"loose_bulk_density": 770.0, "tapped_bulk_density": value,
-                             "compressibility": (value - 770.0) / value}))
+                             "compressibility": (value - 770.0) / value},
+                            stages=[("unextended", 1e-5, {"cylinder.bulk_density": value + 50})]))
 out = table(sorted(rate))
-expect("| tap-rate-8.66hz-seed2 | 8.66 | 2 | 770.0 | 790.5 | 0.0259 |" in out, "a rate's row", out)
+# (the strike: 790.5 / 840.5 - 1 = -5.9 %)
+expect("| tap-rate-8.66hz-seed2 | 8.66 | 2 | 770.0 | 840.5 | 790.5 | -5.9 | 0.0259 |" in out, "a rate's row", out)
+expect("- density before the strike at 8.66 Hz against 4.33 Hz: +1.0 kg/m3 (+0.12 %)" in out, "before the strike", out)
 expect("at 8.66 Hz against 4.33 Hz: +1.0 kg/m3 (+0.13 %) on the seeds' means; one run's standard deviation 1.8 kg/m3, "
        "the difference's 1.8: the rates are not told apart" in out, "the rates within the scatter", out)
 # (8.66 Hz: 799.5 and 800.5; sd sqrt((1^2 * 2 + 0.5^2 * 2) / 2) = 1.12; +9.0 > 2 x 1.12)

@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""validation/tap_series.py on a made-up tapped-density run: each tap takes the sample where the
+cylinder stands lowest, its density scaled by H / (H - z); the CSV holds every tap and the
+summary the means of the tenths; an unfinished run, a time series short of taps and a
+parameter without a unit it knows are refused with a message that names them.
+
+usage: tap_series_check.py TAP_SERIES_PY WORKDIR
+"""
+import csv
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+script, work = sys.argv[1:3]
+shutil.rmtree(work, ignore_errors=True)
+failures = []
+H, RATE, TAPS, START = 0.030, 5.0, 20, 1.0  # 30 mm, 5 Hz: a tap every 0.2 s from t = 1 s
+
+
+def make(name, summary_extra=None, taps=TAPS, height="30 mm"):
+    """A run whose tap k (from 0) has 4 samples 50 ms apart: z 3, 0.3, 1 and 2 mm, the density
+    at z 0.3 mm 800 + k kg/m3 and 700 elsewhere."""
+    run = os.path.join(work, name)
+    os.makedirs(run)
+    j = {"interrupted": False, "failed": None,
+         "parameters": {"tap_frequency": f"{RATE:g}Hz", "height": height, "taps": str(TAPS)},
+         "stages": [{"name": "settle", "start_s": 0.5}, {"name": "tap", "start_s": START}]}
+    j.update(summary_extra or {})
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump(j, f)
+    with open(os.path.join(run, "timeseries.csv"), "w") as f:
+        f.write("stage,time,cylinder.bulk_density,base.position_z\nsettle,0.9,650,0\n")
+        for k in range(taps):
+            for i, z in enumerate((3e-3, 3e-4, 1e-3, 2e-3)):
+                f.write(f"tap,{START + k / RATE + 0.05 * i + 0.001},{800 + k if i == 1 else 700},{z}\n")
+        f.write("tapped,9.0,650,0\n")
+    return run
+
+
+def run(*args):
+    return subprocess.run([sys.executable, script, *args], capture_output=True, text=True)
+
+
+good = make("tap-good")
+out_csv = os.path.join(work, "series.csv")
+r = run("--csv", out_csv, good)
+if r.returncode != 0:
+    failures.append("a finished run: " + r.stderr)
+else:
+    rows = list(csv.DictReader(open(out_csv)))
+    scale = H / (H - 3e-4)
+    want = [round((800 + k) * scale, 2) for k in range(TAPS)]
+    got = [float(x["bulk_density"]) for x in rows]
+    if [x["case"] for x in rows] != ["tap-good"] * TAPS or [int(x["tap"]) for x in rows] != list(range(1, TAPS + 1)):
+        failures.append(f"the CSV's cases and taps: {rows[:3]}")
+    if got != want:
+        failures.append(f"densities {got}, not {want}")
+    # (tenths of 20 taps: 2 each; first 800, 801; middle 809, 810; last 818, 819; all x scale)
+    line = f"| tap-good | 20 | {800.5 * scale:.1f} | {809.5 * scale:.1f} | {818.5 * scale:.1f} | 0.5 | 0.300 |"
+    if line not in r.stdout:
+        failures.append(f"summary line {line!r} not in:\n{r.stdout}")
+
+for name, kw, words in (("tap-interrupted", {"summary_extra": {"interrupted": True}}, "has not finished"),
+                        ("tap-short", {"taps": TAPS - 3}, "17 taps in its time series, not 20"),
+                        ("tap-unit", {"height": "30 furlongs"}, "cannot read the quantity '30 furlongs'")):
+    r = run("--csv", os.path.join(work, name + ".csv"), make(name, **kw))
+    if r.returncode == 0 or words not in r.stderr + r.stdout:
+        failures.append(f"{name}: exit {r.returncode}, expected '{words}' in: {r.stderr}{r.stdout}")
+
+for f in failures:
+    print("FAIL:", f)
+print(f"tap series check: {len(failures)} failed")
+sys.exit(1 if failures else 0)

@@ -1,0 +1,89 @@
+#!/usr/bin/env python3
+"""The bulk density in the tapped cylinder tap by tap, from finished tapped-density runs
+(scenarios/tapped-density.yaml): whether grain tapped at another rate packs denser before the
+strike, where the struck (tapped) density also depends on how the strike leaves the surface.
+
+usage: tap_series.py --csv OUT.csv RUN...   # a run folder: summary.json and timeseries.csv
+
+Per tap, the cylinder sensor's bulk density (kernels centred in it) at the time series' sample
+where the cylinder stands lowest: just after the tap's impact, the extension's grain above the
+rim, so the cylinder is full. The sensor is fixed in space and the cylinder has already risen by
+z there (under 0.3 mm at 8.66 Hz, 10 ms into its lift), so its bottom z of the sensor is empty:
+the value is scaled by H / (H - z), H the cylinder's height. Writes every tap to OUT.csv (case,
+tap, bulk_density [kg/m3], z [m]) and prints, per run, the means over the first, the middle and
+the last tenth of its taps, with the standard error of the last (the taps' scatter about their
+mean over the square root of their number: the taps are not independent, so it is a lower
+bound).
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import re
+
+UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "Hz": 1.0}
+
+
+def quantity(text):
+    """A parameter's text as the run took it ('30mm', '8.66 Hz') in SI."""
+    m = re.fullmatch(r"\s*([0-9.eE+-]+)\s*([A-Za-z]+)\s*", str(text))
+    if not m or m.group(2) not in UNITS:
+        raise SystemExit(f"tap_series.py: cannot read the quantity '{text}' (expected a number and one of "
+                         + ", ".join(UNITS) + ")")
+    return float(m.group(1)) * UNITS[m.group(2)]
+
+
+def taps(run):
+    """Per tap of the run: (bulk density [kg/m3] at the cylinder's lowest sample, its z [m])."""
+    with open(os.path.join(run, "summary.json")) as f:
+        j = json.load(f)
+    if j.get("interrupted") or j.get("failed"):
+        raise SystemExit(f"tap_series.py: {run} has not finished")
+    p = j["parameters"]
+    rate, height, count = quantity(p["tap_frequency"]), quantity(p["height"]), int(p["taps"])
+    start = next(s["start_s"] for s in j["stages"] if s["name"] == "tap")
+    lowest = {}  # tap -> (z, bulk density)
+    with open(os.path.join(run, "timeseries.csv")) as f:
+        for r in csv.DictReader(l for l in f if not l.startswith("#")):
+            if r["stage"] != "tap":
+                continue
+            k = min(int((float(r["time"]) - start) * rate), count - 1)
+            z = float(r["base.position_z"])
+            if k not in lowest or z < lowest[k][0]:
+                lowest[k] = (z, float(r["cylinder.bulk_density"]))
+    if len(lowest) != count:
+        raise SystemExit(f"tap_series.py: {run}: {len(lowest)} taps in its time series, not {count}")
+    return [(rho * height / (height - z), z) for z, rho in (lowest[k] for k in range(count))]
+
+
+def mean(v):
+    return sum(v) / len(v)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--csv", required=True)
+    ap.add_argument("runs", nargs="+")
+    a = ap.parse_args()
+    print("| case | taps | first tenth [kg/m3] | middle tenth [kg/m3] | last tenth [kg/m3] "
+          "| standard error, last [kg/m3] | largest z [mm] |")
+    print("|---|" + "---|" * 6)
+    with open(a.csv, "w", newline="") as out:
+        w = csv.writer(out)
+        w.writerow(["case", "tap", "bulk_density", "z"])
+        for run in a.runs:
+            case, series = os.path.basename(os.path.normpath(run)), taps(run)
+            for k, (rho, z) in enumerate(series, 1):
+                w.writerow([case, k, f"{rho:.2f}", f"{z:.3e}"])
+            rho = [r for r, _ in series]
+            n = max(2, len(rho) // 10)
+            tenths = (rho[:n], rho[(len(rho) - n) // 2:(len(rho) + n) // 2], rho[-n:])
+            last = tenths[-1]
+            se = math.sqrt(sum((r - mean(last)) ** 2 for r in last) / (n - 1) / n)
+            print(f"| {case} | {len(rho)} | " + " | ".join(f"{mean(t):.1f}" for t in tenths)
+                  + f" | {se:.1f} | {max(z for _, z in series) * 1e3:.3f} |")
+
+
+if __name__ == "__main__":
+    main()
