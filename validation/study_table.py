@@ -161,12 +161,17 @@ class Case:
         """A stage's record in the summary (dt_s, values at its end, ...), or {}."""
         return next((s for s in (self.j or {}).get("stages", []) if s["name"] == name), {})
 
-    def tap_strike(self, which):
-        """What the strike that gave the loose or the tapped density cost [%]: that density against
-        the kernels centred in the cylinder at the end of the stage before the strike, when the
-        grain still stood above the rim (tapped-density.yaml's rest and unextended); or None."""
+    def before_strike(self, which):
+        """The kernels centred in the tapped-density cylinder before the loose or the tapped strike
+        [kg/m3]: at the end of the stage before it (tapped-density.yaml's rest and unextended),
+        when the grain still stood above the rim; or None."""
         before = self.stage({"loose": "rest", "tapped": "unextended"}[which]).get("values", {})
-        return over(self.result(which + "_bulk_density"), before.get("cylinder.bulk_density"))
+        return before.get("cylinder.bulk_density")
+
+    def tap_strike(self, which):
+        """What the loose or the tapped strike cost [%]: the struck density against
+        before_strike, or None."""
+        return over(self.result(which + "_bulk_density"), self.before_strike(which))
 
     def tail(self):
         """The columns every table ends with: particles, time step, simulated and wall time,
@@ -195,9 +200,9 @@ def verdict(values, holds, spec=".1f"):
     return ("holds" if holds(values) else "does NOT hold") + ": " + ", ".join(format(v, spec) for v in values)
 
 
-def over(value, lab):
-    """How far value lies over lab [%], or None where either is missing."""
-    return value and lab and 100 * (value / lab - 1)
+def over(value, reference):
+    """How far value lies over reference [%], or None where either is missing."""
+    return value and reference and 100 * (value / reference - 1)
 
 
 def expected(refs):
@@ -340,7 +345,7 @@ def lab_loose(struck, refs, model):
         if not runs or None in runs:
             continue
         lab = (("its kettle", refs.test_weight[f] * LB_BU),
-               ("the tapped cylinder's loose fill", lab_cylinder(refs.tapped, f)[0]),
+               ("the tapped cylinder's loose fill", lab_loose_fill(refs.tapped, f)),
                ("the calibration cup", refs.cup[f]))
         m = mean(runs)
         out.append(f"- the {f} fraction, {model}, 1h: {m:.1f} kg/m3 struck; the lab's loose density of it "
@@ -446,14 +451,11 @@ def time_step(cases):
     return out
 
 
-def lab_cylinder(lab, fraction):
-    """The lab's loose and tapped density of a fraction in the tapped-density cylinder [kg/m3]:
-    packing ratio x kernel density x (1 - compressibility), and packing ratio x kernel density;
-    (None, None) where the references lack either."""
+def lab_loose_fill(lab, fraction):
+    """The lab's loose density of a fraction in the tapped-density cylinder [kg/m3]: packing
+    ratio x kernel density x (1 - compressibility); None where the references lack either."""
     ratio, c = lab.get((fraction, "packing_ratio")), lab.get((fraction, "compressibility"))
-    if ratio is None or c is None:
-        return None, None
-    return ratio * KERNEL_DENSITY * (1 - c), ratio * KERNEL_DENSITY
+    return None if ratio is None or c is None else ratio * KERNEL_DENSITY * (1 - c)
 
 
 def tapped(cases, refs):
@@ -473,12 +475,12 @@ def tapped(cases, refs):
         taps, hz = c.parameter("taps"), c.parameter("tap_frequency")
         taps = f"{taps} at " + re.sub(r"\s*Hz$", " Hz", hz) if taps and hz else ""
         loose, ratio = c.result("loose_bulk_density"), c.result("packing_ratio")
-        lab_loose_fill, lab_ratio = lab_cylinder(lab, fraction)[0], lab.get((fraction, "packing_ratio"))
+        lab_loose, lab_ratio = lab_loose_fill(lab, fraction), lab.get((fraction, "packing_ratio"))
         if c.name.count("-") == 2:  # (not a case tapped at another rate)
             ratios[(model, fraction)] = ratio if c.done else None
             compress[(model, fraction)] = c.result("compressibility") if c.done else None
         out.append(f"| {c.name} | {fraction} | {model} | {taps} | {c.cell('loose_bulk_density', '.1f')} "
-                   f"| {fmt(lab_loose_fill, '.1f')} | {fmt(over(loose, lab_loose_fill), '+.1f')} "
+                   f"| {fmt(lab_loose, '.1f')} | {fmt(over(loose, lab_loose), '+.1f')} "
                    f"| {c.cell('tapped_bulk_density', '.1f')} | {c.cell('packing_ratio', '.3f')} "
                    f"| {fmt(lab_ratio, '')} | {fmt(over(ratio, lab_ratio), '+.1f')} "
                    f"| {c.cell('compressibility', '.4f')} | {fmt(lab.get((fraction, 'compressibility')), '')} "
@@ -535,7 +537,7 @@ def tap_rate(cases):
     for c in cases:
         _, _, rate, seed = c.name.split("-")
         rate, seed = rate.removesuffix("hz"), seed.removeprefix("seed")
-        pre = c.stage("unextended").get("values", {}).get("cylinder.bulk_density")
+        pre = c.before_strike("tapped")
         tapped.setdefault(rate, []).append(c.result("tapped_bulk_density") if c.done else None)
         before.setdefault(rate, []).append(pre if c.done else None)
         out.append(f"| {c.name} | {rate} | {seed} | {c.cell('loose_bulk_density', '.1f')} | {fmt(pre, '.1f')} "
