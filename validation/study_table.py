@@ -466,23 +466,26 @@ def tapped(cases, refs):
            f"Packing ratio: tapped bulk density over the kernels' density ({KERNEL_DENSITY:.0f} kg/m3); "
            "compressibility: (tapped - loose) / tapped. The lab's values are those of KanMark's sieve "
            "fractions (data/reference_values.csv); its loose density is packing ratio x kernels' density x "
-           "(1 - compressibility).", ""]
+           "(1 - compressibility). A case tapped at another rate (its name ends in the rate) is set against "
+           "its twin at the lab's rate, below, not against the lab's packing ratio.", ""]
     out += header("| case | fraction | model | taps | loose [kg/m3] | lab | against the lab [%] | tapped [kg/m3] "
                   "| packing ratio | lab | against the lab [%] | compressibility | lab | strike loose / tapped [%]")
     ratios, compress = {}, {}  # (model, fraction) at the lab's rate -> the case's value [-], None until done
+    cases = sorted(cases, key=lambda c: other_rate_case(c.name))  # (those at another rate last)
     for c in cases:
         _, fraction, model = c.name.split("-")[:3]
         taps, hz = c.parameter("taps"), c.parameter("tap_frequency")
         taps = f"{taps} at " + re.sub(r"\s*Hz$", " Hz", hz) if taps and hz else ""
         loose, ratio = c.result("loose_bulk_density"), c.result("packing_ratio")
         lab_loose, lab_ratio = lab_loose_fill(lab, fraction), lab.get((fraction, "packing_ratio"))
-        if c.name.count("-") == 2:  # (not a case tapped at another rate)
+        other = other_rate_case(c.name)
+        if not other:
             ratios[(model, fraction)] = ratio if c.done else None
             compress[(model, fraction)] = c.result("compressibility") if c.done else None
         out.append(f"| {c.name} | {fraction} | {model} | {taps} | {c.cell('loose_bulk_density', '.1f')} "
                    f"| {fmt(lab_loose, '.1f')} | {fmt(over(loose, lab_loose), '+.1f')} "
                    f"| {c.cell('tapped_bulk_density', '.1f')} | {c.cell('packing_ratio', '.3f')} "
-                   f"| {fmt(lab_ratio, '')} | {fmt(over(ratio, lab_ratio), '+.1f')} "
+                   f"| {fmt(lab_ratio, '')} | {'' if other else fmt(over(ratio, lab_ratio), '+.1f')} "
                    f"| {c.cell('compressibility', '.4f')} | {fmt(lab.get((fraction, 'compressibility')), '')} "
                    f"| {strikes(c)} " + c.tail())
     out.append("")
@@ -491,11 +494,17 @@ def tapped(cases, refs):
             out += [tapped_order("packing ratio, large > medium > small", model, ratios, lab, "packing_ratio", -1),
                     tapped_order("compressibility, large < medium < small", model, compress, lab, "compressibility", 1)]
     named = {c.name: c for c in cases}
-    for c in (c for c in cases if c.name.count("-") == 3):  # tap-FRACTION-MODEL-HZhz against tap-FRACTION-MODEL
+    for c in (c for c in cases if other_rate_case(c.name)):
         twin = named.get(c.name.rsplit("-", 1)[0])
         if twin is not None:
             out.append(other_rate(c, twin))
     return out
+
+
+def other_rate_case(name):
+    """Whether a tapped-density case taps at another rate than the lab's: tap-FRACTION-MODEL-HZhz,
+    the twin of tap-FRACTION-MODEL."""
+    return re.fullmatch(r"tap-[a-z]+-[0-9]+s-[0-9.]+hz", name) is not None
 
 
 def other_rate(c, twin):

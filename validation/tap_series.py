@@ -5,15 +5,20 @@ strike, where the struck (tapped) density also depends on how the strike leaves 
 
 usage: tap_series.py --csv OUT.csv RUN...   # a run folder: summary.json and timeseries.csv
 
-Per tap, the cylinder sensor's bulk density (kernels centred in it) at the time series' sample
-where the cylinder stands lowest: just after the tap's impact, the extension's grain above the
-rim, so the cylinder is full. The sensor is fixed in space and the cylinder has already risen by
-z there (under 0.3 mm at 8.66 Hz, 10 ms into its lift), so its bottom z of the sensor is empty:
-the value is scaled by H / (H - z), H the cylinder's height. Writes every tap to OUT.csv (case,
-tap, bulk_density [kg/m3], z [m]) and prints, per run, the means over the first, the middle and
-the last tenth of its taps, with the standard error of the last (the taps' scatter about their
-mean over the square root of their number: the taps are not independent, so it is a lower
-bound).
+A tap's period is the lift, then the free fall onto the stop: the impact ends it. So in period k
+(from 0) the time series' sample where the cylinder stands lowest comes just after k impacts
+(k = 0: the settled fill before the first; the state after the last is the stage tapped_rest's),
+the extension's grain above the rim, so the cylinder is full. Its cylinder sensor's bulk density
+(kernels centred in it) is read there. The sensor is fixed in space and the cylinder has risen
+by z at that sample (up to 0.02 mm at 4.33 Hz, 0.09 mm at 8.66 Hz: 10 ms into the lift), so the
+bottom z of the sensor is empty: the value is scaled by H / (H - z), H the cylinder's height
+(at 8.66 Hz in a 30 mm cylinder up to 0.3 %). Writes every period to OUT.csv (case, impacts,
+bulk_density [kg/m3], z [m]) and prints, per run, the means over the first, the middle and the
+last tenth of the periods, with a rough standard error of the last (the scatter about its mean
+over the square root of the count). The values are not independent: the bed carries over from
+tap to tap, and where the period is not a whole number of samples the sample's delay after the
+impact alternates from tap to tap (at 8.66 Hz, 11.5 samples of 10 ms), which shows as
+neighbouring values moving opposite ways.
 """
 import argparse
 import csv
@@ -35,7 +40,8 @@ def quantity(text):
 
 
 def taps(run):
-    """Per tap of the run: (bulk density [kg/m3] at the cylinder's lowest sample, its z [m])."""
+    """Per period of the run's taps: (bulk density [kg/m3] at the cylinder's lowest sample, its
+    z [m]); period k after k impacts."""
     with open(os.path.join(run, "summary.json")) as f:
         j = json.load(f)
     if j.get("interrupted") or j.get("failed"):
@@ -43,7 +49,7 @@ def taps(run):
     p = j["parameters"]
     rate, height, count = quantity(p["tap_frequency"]), quantity(p["height"]), int(p["taps"])
     start = next(s["start_s"] for s in j["stages"] if s["name"] == "tap")
-    lowest = {}  # tap -> (z, bulk density)
+    lowest = {}  # period -> (z, bulk density)
     with open(os.path.join(run, "timeseries.csv")) as f:
         for r in csv.DictReader(l for l in f if not l.startswith("#")):
             if r["stage"] != "tap":
@@ -67,14 +73,14 @@ def main():
     ap.add_argument("runs", nargs="+")
     a = ap.parse_args()
     print("| case | taps | first tenth [kg/m3] | middle tenth [kg/m3] | last tenth [kg/m3] "
-          "| standard error, last [kg/m3] | largest z [mm] |")
+          "| standard error, last (rough) [kg/m3] | largest z [mm] |")
     print("|---|" + "---|" * 6)
     with open(a.csv, "w", newline="") as out:
         w = csv.writer(out)
-        w.writerow(["case", "tap", "bulk_density", "z"])
+        w.writerow(["case", "impacts", "bulk_density", "z"])
         for run in a.runs:
             case, series = os.path.basename(os.path.normpath(run)), taps(run)
-            for k, (rho, z) in enumerate(series, 1):
+            for k, (rho, z) in enumerate(series):
                 w.writerow([case, k, f"{rho:.2f}", f"{z:.3e}"])
             rho = [r for r, _ in series]
             n = max(2, len(rho) // 10)

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""validation/tap_series.py on a made-up tapped-density run: each tap takes the sample where the
-cylinder stands lowest, its density scaled by H / (H - z); the CSV holds every tap and the
+"""validation/tap_series.py on a made-up tapped-density run: each period of the taps takes the
+sample where the cylinder stands lowest, after as many impacts as periods before it, its density
+scaled by H / (H - z); the CSV holds every period and the
 summary the means of the tenths; an unfinished run, a time series short of taps and a
 parameter without a unit it knows are refused with a message that names them.
 
@@ -53,8 +54,8 @@ else:
     scale = H / (H - 3e-4)
     want = [round((800 + k) * scale, 2) for k in range(TAPS)]
     got = [float(x["bulk_density"]) for x in rows]
-    if [x["case"] for x in rows] != ["tap-good"] * TAPS or [int(x["tap"]) for x in rows] != list(range(1, TAPS + 1)):
-        failures.append(f"the CSV's cases and taps: {rows[:3]}")
+    if [x["case"] for x in rows] != ["tap-good"] * TAPS or [int(x["impacts"]) for x in rows] != list(range(TAPS)):
+        failures.append(f"the CSV's cases and impacts: {rows[:3]}")
     if got != want:
         failures.append(f"densities {got}, not {want}")
     # (tenths of 20 taps: 2 each; first 800, 801; middle 809, 810; last 818, 819; all x scale)
