@@ -26,6 +26,7 @@ import json
 import math
 import os
 import re
+from statistics import mean, stdev
 
 UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "Hz": 1.0}
 
@@ -63,10 +64,6 @@ def taps(run):
     return [(rho * height / (height - z), z) for z, rho in (lowest[k] for k in range(count))]
 
 
-def mean(v):
-    return sum(v) / len(v)
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--csv", required=True)
@@ -86,7 +83,7 @@ def main():
             n = max(2, len(rho) // 10)
             tenths = (rho[:n], rho[(len(rho) - n) // 2:(len(rho) + n) // 2], rho[-n:])
             last = tenths[-1]
-            se = math.sqrt(sum((r - mean(last)) ** 2 for r in last) / (n - 1) / n)
+            se = stdev(last) / math.sqrt(n)
             print(f"| {case} | {len(rho)} | " + " | ".join(f"{mean(t):.1f}" for t in tenths)
                   + f" | {se:.1f} | {max(z for _, z in series) * 1e3:.3f} |")
 
