@@ -3,7 +3,8 @@
 (scenarios/tapped-density.yaml): whether grain tapped at another rate packs denser before the
 strike, where the struck (tapped) density also depends on how the strike leaves the surface.
 
-usage: tap_series.py --csv OUT.csv RUN...   # a run folder: summary.json and timeseries.csv
+usage: tap_series.py --csv OUT.csv [--phases PHASES.csv] RUN...   # a run folder: summary.json
+                                                                   # and timeseries.csv
 
 A tap's period is the lift, then the free fall onto the stop: the impact ends it. So in period k
 (from 0) the time series' sample where the cylinder stands lowest comes just after k impacts
@@ -19,6 +20,15 @@ over the square root of the count). The values are not independent: the bed carr
 tap to tap, and where the period is not a whole number of samples the sample's delay after the
 impact alternates from tap to tap (at 8.66 Hz, 11.5 samples of 10 ms), which shows as
 neighbouring values moving opposite ways.
+
+--phases: whether the bed is at rest when the next fall begins, the condition under which only
+the lift between the taps, not their impact, differs between rates. Over the periods after the
+first tenth, the time series' kinetic energy per particle and the cylinder's height are averaged
+in bins of one sample interval by the time into the period (0: the impact just past, the lift
+beginning). The quietest bin lies near the top of the lift, where the cylinder slows to a stop: its
+kinetic energy bounds the grain's own agitation when the fall begins (it still holds some of the
+cylinder's motion), and the summary sets it against that just after the impact. Writes
+PHASES.csv (case, phase_start [s], kinetic_energy_per_particle [J], z [m], samples).
 """
 import argparse
 import csv
@@ -26,7 +36,7 @@ import json
 import math
 import os
 import re
-from statistics import mean, stdev
+from statistics import mean, median, stdev
 
 UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "Hz": 1.0}
 
@@ -40,33 +50,72 @@ def quantity(text):
     return float(m.group(1)) * UNITS[m.group(2)]
 
 
-def taps(run):
-    """Per period of the run's taps: (bulk density [kg/m3] at the cylinder's lowest sample, its
-    z [m]); period k after k impacts."""
+def tap_stage(run):
+    """A finished run's taps: (rate [Hz], cylinder height [m], taps, the stage's start [s], its
+    time series' rows)."""
     with open(os.path.join(run, "summary.json")) as f:
         j = json.load(f)
     if j.get("interrupted") or j.get("failed"):
         raise SystemExit(f"tap_series.py: {run} has not finished")
     p = j["parameters"]
-    rate, height, count = quantity(p["tap_frequency"]), quantity(p["height"]), int(p["taps"])
     start = next(s["start_s"] for s in j["stages"] if s["name"] == "tap")
-    lowest = {}  # period -> (z, bulk density)
     with open(os.path.join(run, "timeseries.csv")) as f:
-        for r in csv.DictReader(l for l in f if not l.startswith("#")):
-            if r["stage"] != "tap":
-                continue
-            k = min(int((float(r["time"]) - start) * rate), count - 1)
-            z = float(r["base.position_z"])
-            if k not in lowest or z < lowest[k][0]:
-                lowest[k] = (z, float(r["cylinder.bulk_density"]))
+        rows = [r for r in csv.DictReader(l for l in f if not l.startswith("#")) if r["stage"] == "tap"]
+    return quantity(p["tap_frequency"]), quantity(p["height"]), int(p["taps"]), start, rows
+
+
+def taps(run):
+    """Per period of the run's taps: (bulk density [kg/m3] at the cylinder's lowest sample, its
+    z [m]); period k after k impacts."""
+    rate, height, count, start, rows = tap_stage(run)
+    lowest = {}  # period -> (z, bulk density)
+    for r in rows:
+        k = min(int((float(r["time"]) - start) * rate), count - 1)
+        z = float(r["base.position_z"])
+        if k not in lowest or z < lowest[k][0]:
+            lowest[k] = (z, float(r["cylinder.bulk_density"]))
     if len(lowest) != count:
         raise SystemExit(f"tap_series.py: {run}: {len(lowest)} taps in its time series, not {count}")
     return [(rho * height / (height - z), z) for z, rho in (lowest[k] for k in range(count))]
 
 
+def phases(run):
+    """Per bin of one sample interval into the period, over the periods after the first tenth:
+    (bin's start [s], mean kinetic energy per particle [J], mean z [m], samples)."""
+    rate, _, count, start, rows = tap_stage(run)
+    times = [float(r["time"]) for r in rows]
+    width = median(b - a for a, b in zip(times, times[1:]))
+    bins = {}  # bin -> [kinetic energies, z]
+    for t, r in zip(times, rows):
+        k = int((t - start) * rate)
+        if count // 10 <= k < count:
+            b = bins.setdefault(int(((t - start) - k / rate) / width), ([], []))
+            b[0].append(float(r["kinetic_energy_per_particle"]))
+            b[1].append(float(r["base.position_z"]))
+    return [(i * width, mean(e), mean(z), len(e)) for i, (e, z) in sorted(bins.items())]
+
+
+def write_phases(path, runs):
+    """PHASES.csv of every run, and the summary: the kinetic energy of the quietest bin against
+    that just after the impact."""
+    print("\n| case | kinetic energy after the impact [J] | quietest [J] | quietest / after the impact "
+          "| quietest at [ms into the period] | cylinder there [mm] |")
+    print("|---|" + "---|" * 5)
+    with open(path, "w", newline="") as out:
+        w = csv.writer(out)
+        w.writerow(["case", "phase_start", "kinetic_energy_per_particle", "z", "samples"])
+        for run in runs:
+            case, bins = os.path.basename(os.path.normpath(run)), phases(run)
+            for t, e, z, n in bins:
+                w.writerow([case, f"{t:.4f}", f"{e:.4e}", f"{z:.4e}", n])
+            t, e, z, _ = min(bins, key=lambda b: b[1])
+            print(f"| {case} | {bins[0][1]:.3g} | {e:.3g} | {e / bins[0][1]:.2g} | {t * 1e3:.0f} | {z * 1e3:.2f} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--csv", required=True)
+    ap.add_argument("--phases", help="also the kinetic energy and height by the time into the period")
     ap.add_argument("runs", nargs="+")
     a = ap.parse_args()
     print("| case | taps | first tenth [kg/m3] | middle tenth [kg/m3] | last tenth [kg/m3] "
@@ -86,6 +135,8 @@ def main():
             se = stdev(last) / math.sqrt(n)
             print(f"| {case} | {len(rho)} | " + " | ".join(f"{mean(t):.1f}" for t in tenths)
                   + f" | {se:.1f} | {max(z for _, z in series) * 1e3:.3f} |")
+    if a.phases:
+        write_phases(a.phases, a.runs)
 
 
 if __name__ == "__main__":

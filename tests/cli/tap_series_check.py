@@ -2,7 +2,8 @@
 """validation/tap_series.py on a made-up tapped-density run: each period of the taps takes the
 sample where the cylinder stands lowest, after as many impacts as periods before it, its density
 scaled by H / (H - z); the CSV holds every period and the
-summary the means of the tenths; an unfinished run, a time series short of taps and a
+summary the means of the tenths; --phases averages the kinetic energy and height by the time into
+the period over the periods after the first tenth and names the quietest bin; an unfinished run, a time series short of taps and a
 parameter without a unit it knows are refused with a message that names them.
 
 usage: tap_series_check.py TAP_SERIES_PY WORKDIR
@@ -18,11 +19,14 @@ script, work = sys.argv[1:3]
 shutil.rmtree(work, ignore_errors=True)
 failures = []
 H, RATE, TAPS, START = 0.030, 5.0, 20, 1.0  # 30 mm, 5 Hz: a tap every 0.2 s from t = 1 s
+Z = (3e-3, 3e-4, 1e-3, 2e-3)  # [m] the cylinder's height at the 4 samples of a period
+KE = (4e-7, 1e-7, 2e-9, 5e-8)  # [J] the kinetic energy per particle there
 
 
 def make(name, summary_extra=None, taps=TAPS, height="30 mm"):
     """A run whose tap k (from 0) has 4 samples 50 ms apart: z 3, 0.3, 1 and 2 mm, the density
-    at z 0.3 mm 800 + k kg/m3 and 700 elsewhere."""
+    at z 0.3 mm 800 + k kg/m3 and 700 elsewhere, the kinetic energy KE[i] (+ 1 J before the
+    first tenth's end, which the phases must leave out)."""
     run = os.path.join(work, name)
     os.makedirs(run)
     j = {"interrupted": False, "failed": None,
@@ -32,11 +36,13 @@ def make(name, summary_extra=None, taps=TAPS, height="30 mm"):
     with open(os.path.join(run, "summary.json"), "w") as f:
         json.dump(j, f)
     with open(os.path.join(run, "timeseries.csv"), "w") as f:
-        f.write("stage,time,cylinder.bulk_density,base.position_z\nsettle,0.9,650,0\n")
+        f.write("stage,time,cylinder.bulk_density,base.position_z,kinetic_energy_per_particle\n"
+                "settle,0.9,650,0,0\n")
         for k in range(taps):
-            for i, z in enumerate((3e-3, 3e-4, 1e-3, 2e-3)):
-                f.write(f"tap,{START + k / RATE + 0.05 * i + 0.001},{800 + k if i == 1 else 700},{z}\n")
-        f.write("tapped,9.0,650,0\n")
+            for i, z in enumerate(Z):
+                ke = KE[i] + (1.0 if k < taps // 10 else 0.0)
+                f.write(f"tap,{START + k / RATE + 0.05 * i + 0.001},{800 + k if i == 1 else 700},{z},{ke}\n")
+        f.write("tapped,9.0,650,0,0\n")
     return run
 
 
@@ -46,7 +52,8 @@ def run(*args):
 
 good = make("tap-good")
 out_csv = os.path.join(work, "series.csv")
-r = run("--csv", out_csv, good)
+phases_csv = os.path.join(work, "phases.csv")
+r = run("--csv", out_csv, "--phases", phases_csv, good)
 if r.returncode != 0:
     failures.append("a finished run: " + r.stderr)
 else:
@@ -62,6 +69,14 @@ else:
     line = f"| tap-good | 20 | {800.5 * scale:.1f} | {809.5 * scale:.1f} | {818.5 * scale:.1f} | 0.5 | 0.300 |"
     if line not in r.stdout:
         failures.append(f"summary line {line!r} not in:\n{r.stdout}")
+    rows = list(csv.DictReader(open(phases_csv)))
+    want = [["tap-good", f"{0.05 * i:.4f}", f"{KE[i]:.4e}", f"{Z[i]:.4e}", "18"] for i in range(4)]
+    got = [[x["case"], x["phase_start"], x["kinetic_energy_per_particle"], x["z"], x["samples"]] for x in rows]
+    if got != want:
+        failures.append(f"phases {got}, not {want}")
+    line = "| tap-good | 4e-07 | 2e-09 | 0.005 | 100 | 1.00 |"
+    if line not in r.stdout:
+        failures.append(f"phases' summary line {line!r} not in:\n{r.stdout}")
 
 for name, kw, words in (("tap-interrupted", {"summary_extra": {"interrupted": True}}, "has not finished"),
                         ("tap-short", {"taps": TAPS - 3}, "17 taps in its time series, not 20"),
