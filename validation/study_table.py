@@ -451,6 +451,9 @@ def time_step(cases):
     return out
 
 
+LAB_TAP_RATE = 4.33  # [Hz] the lab's tapping rate (docs/wheat.md)
+
+
 def lab_loose_fill(lab, fraction):
     """The lab's loose density of a fraction in the tapped-density cylinder [kg/m3]: packing
     ratio x kernel density x (1 - compressibility); None where the references lack either."""
@@ -467,7 +470,8 @@ def tapped(cases, refs):
            "compressibility: (tapped - loose) / tapped. The lab's values are those of KanMark's sieve "
            "fractions (data/reference_values.csv); its loose density is packing ratio x kernels' density x "
            "(1 - compressibility). A case tapped at another rate (its name ends in the rate) is set against "
-           "its twin at the lab's rate, below, not against the lab's packing ratio.", ""]
+           "its twin at the lab's rate, below, not against the lab's packing ratio; a case of the study tapped at "
+           "another rate is set against the lab's values, and a line below names the twins that measured that rate.", ""]
     out += header("| case | fraction | model | taps | loose [kg/m3] | lab | against the lab [%] | tapped [kg/m3] "
                   "| packing ratio | lab | against the lab [%] | compressibility | lab | strike loose / tapped [%]")
     ratios, compress = {}, {}  # (model, fraction) at the lab's rate -> the case's value [-], None until done
@@ -494,10 +498,17 @@ def tapped(cases, refs):
             out += [tapped_order("packing ratio, large > medium > small", model, ratios, lab, "packing_ratio", -1),
                     tapped_order("compressibility, large < medium < small", model, compress, lab, "compressibility", 1)]
     named = {c.name: c for c in cases}
-    for c in (c for c in cases if other_rate_case(c.name)):
-        twin = named.get(c.name.rsplit("-", 1)[0])
-        if twin is not None:
-            out.append(other_rate(c, twin))
+    twins = [(c, named[c.name.rsplit("-", 1)[0]]) for c in cases
+             if other_rate_case(c.name) and c.name.rsplit("-", 1)[0] in named]
+    out += [other_rate(c, twin) for c, twin in twins]
+    for c in cases:  # (a case of the study tapped at another rate than the lab's, set against the lab)
+        hz = c.parameter("tap_frequency")
+        hz = float(re.sub(r"\s*Hz$", "", hz)) if hz else LAB_TAP_RATE
+        if not other_rate_case(c.name) and hz != LAB_TAP_RATE:
+            pairs = [f"{o.name} against {t.name}" for o, t in twins if float(o.name.split("-")[-1][:-2]) == hz]
+            out.append(f"- {c.name} taps at {hz:g} Hz, not the lab's {LAB_TAP_RATE:g} Hz, and is set against the lab "
+                       "all the same; what that rate moves: " + ("; ".join(pairs) + " (above)" if pairs
+                                                                 else "no twin tapped at both rates"))
     return out
 
 

@@ -238,6 +238,8 @@ out = table(["tap-medium-5s"])
 expect("| 500 at 8.66 Hz | 790.0 | 773.9 | +2.1 | 835.0 | 0.608 | 0.599 | +1.5 | 0.0539 | 0.059 |"
        in row(out, "tap-medium-5s"), "tapped row", out)
 expect("packing ratio, large" not in out, "no order check before the three fractions have cases", out)
+expect("- tap-medium-5s taps at 8.66 Hz, not the lab's 4.33 Hz, and is set against the lab all the same; what that "
+       "rate moves: no twin tapped at both rates" in out, "a study case at another rate", out)
 
 
 def tap(loose, tapped):  # (before the strikes: 40 and 45 kg/m3 denser)
@@ -277,6 +279,9 @@ expect("- tap-large-5s-8.66hz against tap-large-5s: loose 820.0 and 820.0 kg/m3,
        and "5s: does NOT hold: 0.626, 0.608, 0.619" in out, "another rate against the lab's", out)
 # (its packing ratio not against the lab's, which was tapped at 4.33 Hz)
 expect("| 0.641 | 0.633 |  | 0.0682 |" in row(out, "tap-large-5s-8.66hz"), "another rate's row", out)
+expect("- tap-medium-5s taps at 8.66 Hz, not the lab's 4.33 Hz, and is set against the lab all the same; what that "
+       "rate moves: tap-large-5s-8.66hz against tap-large-5s (above)" in out
+       and "tap-large-5s taps" not in out, "a study case at another rate, with a twin at it", out)
 
 # The tapping rate: the difference of the seeds' means against their pooled scatter
 # (sd: sqrt((1^2 * 2 + 1.5^2 * 2) / 2) = 1.80; the difference's: 1.80 x sqrt(1/2 + 1/2) = 1.80)
