@@ -501,14 +501,7 @@ def tapped(cases, refs):
     twins = [(c, named[c.name.rsplit("-", 1)[0]]) for c in cases
              if other_rate_case(c.name) and c.name.rsplit("-", 1)[0] in named]
     out += [other_rate(c, twin) for c, twin in twins]
-    for c in cases:  # (a case of the study tapped at another rate than the lab's, set against the lab)
-        hz = c.parameter("tap_frequency")
-        hz = float(re.sub(r"\s*Hz$", "", hz)) if hz else LAB_TAP_RATE
-        if not other_rate_case(c.name) and hz != LAB_TAP_RATE:
-            pairs = [f"{o.name} against {t.name}" for o, t in twins if float(o.name.split("-")[-1][:-2]) == hz]
-            out.append(f"- {c.name} taps at {hz:g} Hz, not the lab's {LAB_TAP_RATE:g} Hz, and is set against the lab "
-                       "all the same; what that rate moves: " + ("; ".join(pairs) + " (above)" if pairs
-                                                                 else "no twin tapped at both rates"))
+    out += [line for line in (study_case_rate(c, twins) for c in cases) if line]
     return out
 
 
@@ -516,6 +509,18 @@ def other_rate_case(name):
     """Whether a tapped-density case taps at another rate than the lab's: tap-FRACTION-MODEL-HZhz,
     the twin of tap-FRACTION-MODEL."""
     return re.fullmatch(r"tap-[a-z]+-[0-9]+s-[0-9.]+hz", name) is not None
+
+
+def study_case_rate(c, twins):
+    """For a case of the study (not a twin) tapped at another rate than the lab's, a line that
+    says so and names the twins (other-rate case, twin) that measured that rate; else ''."""
+    hz = c.parameter("tap_frequency")
+    hz = float(re.sub(r"\s*Hz$", "", hz)) if hz else LAB_TAP_RATE
+    if other_rate_case(c.name) or hz == LAB_TAP_RATE:
+        return ""
+    pairs = [f"{o.name} against {t.name}" for o, t in twins if float(o.name.split("-")[-1][:-2]) == hz]
+    return (f"- {c.name} taps at {hz:g} Hz, not the lab's {LAB_TAP_RATE:g} Hz, and is set against the lab all the "
+            "same; what that rate moves: " + ("; ".join(pairs) + " (above)" if pairs else "no twin tapped at both rates"))
 
 
 def other_rate(c, twin):
