@@ -64,10 +64,10 @@ def tap_stage(run):
     return quantity(p["tap_frequency"]), quantity(p["height"]), int(p["taps"]), start, rows
 
 
-def taps(run):
-    """Per period of the run's taps: (bulk density [kg/m3] at the cylinder's lowest sample, its
-    z [m]); period k after k impacts."""
-    rate, height, count, start, rows = tap_stage(run)
+def taps(run, stage):
+    """Per period of the run's taps (its tap_stage): (bulk density [kg/m3] at the cylinder's
+    lowest sample, its z [m]); period k after k impacts."""
+    rate, height, count, start, rows = stage
     lowest = {}  # period -> (z, bulk density)
     for r in rows:
         k = min(int((float(r["time"]) - start) * rate), count - 1)
@@ -79,10 +79,11 @@ def taps(run):
     return [(rho * height / (height - z), z) for z, rho in (lowest[k] for k in range(count))]
 
 
-def phases(run):
-    """Per bin of one sample interval into the period, over the periods after the first tenth:
-    (bin's start [s], mean kinetic energy per particle [J], mean z [m], samples)."""
-    rate, _, count, start, rows = tap_stage(run)
+def phases(stage):
+    """Per bin of one sample interval into the period, over the periods after the first tenth of
+    a run's taps (its tap_stage): (bin's start [s], mean kinetic energy per particle [J], mean z
+    [m], samples)."""
+    rate, _, count, start, rows = stage
     times = [float(r["time"]) for r in rows]
     width = median(b - a for a, b in zip(times, times[1:]))
     bins = {}  # bin -> [kinetic energies, z]
@@ -95,17 +96,17 @@ def phases(run):
     return [(i * width, mean(e), mean(z), len(e)) for i, (e, z) in sorted(bins.items())]
 
 
-def write_phases(path, runs):
-    """PHASES.csv of every run, and the summary: the kinetic energy of the quietest bin against
-    that just after the impact."""
+def write_phases(path, stages):
+    """PHASES.csv of every run ({case: its tap_stage}), and the summary: the kinetic energy of the
+    quietest bin against that just after the impact."""
     print("\n| case | kinetic energy after the impact [J] | quietest [J] | quietest / after the impact "
           "| quietest at [ms into the period] | cylinder there [mm] |")
     print("|---|" + "---|" * 5)
     with open(path, "w", newline="") as out:
         w = csv.writer(out)
         w.writerow(["case", "phase_start", "kinetic_energy_per_particle", "z", "samples"])
-        for run in runs:
-            case, bins = os.path.basename(os.path.normpath(run)), phases(run)
+        for case, stage in stages.items():
+            bins = phases(stage)
             for t, e, z, n in bins:
                 w.writerow([case, f"{t:.4f}", f"{e:.4e}", f"{z:.4e}", n])
             t, e, z, _ = min(bins, key=lambda b: b[1])
@@ -124,8 +125,11 @@ def main():
     with open(a.csv, "w", newline="") as out:
         w = csv.writer(out)
         w.writerow(["case", "impacts", "bulk_density", "z"])
+        stages = {}  # case -> its tap_stage, read once for both tables
         for run in a.runs:
-            case, series = os.path.basename(os.path.normpath(run)), taps(run)
+            case = os.path.basename(os.path.normpath(run))
+            stages[case] = tap_stage(run)
+            series = taps(run, stages[case])
             for k, (rho, z) in enumerate(series):
                 w.writerow([case, k, f"{rho:.2f}", f"{z:.3e}"])
             rho = [r for r, _ in series]
@@ -136,7 +140,7 @@ def main():
             print(f"| {case} | {len(rho)} | " + " | ".join(f"{mean(t):.1f}" for t in tenths)
                   + f" | {se:.1f} | {max(z for _, z in series) * 1e3:.3f} |")
     if a.phases:
-        write_phases(a.phases, a.runs)
+        write_phases(a.phases, stages)
 
 
 if __name__ == "__main__":
