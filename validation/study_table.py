@@ -475,14 +475,14 @@ def tapped(cases, refs):
     out += header("| case | fraction | model | taps | loose [kg/m3] | lab | against the lab [%] | tapped [kg/m3] "
                   "| packing ratio | lab | against the lab [%] | compressibility | lab | strike loose / tapped [%]")
     ratios, compress = {}, {}  # (model, fraction) at the lab's rate -> the case's value [-], None until done
-    cases = sorted(cases, key=lambda c: other_rate_case(c.name))  # (those at another rate last)
+    cases = sorted(cases, key=lambda c: other_rate_case(c.name) is not None)  # (those at another rate last)
     for c in cases:
         _, fraction, model = c.name.split("-")[:3]
         taps, hz = c.parameter("taps"), c.parameter("tap_frequency")
         taps = f"{taps} at " + re.sub(r"\s*Hz$", " Hz", hz) if taps and hz else ""
         loose, ratio = c.result("loose_bulk_density"), c.result("packing_ratio")
         lab_loose, lab_ratio = lab_loose_fill(lab, fraction), lab.get((fraction, "packing_ratio"))
-        other = other_rate_case(c.name)
+        other = other_rate_case(c.name) is not None
         if not other:
             ratios[(model, fraction)] = ratio if c.done else None
             compress[(model, fraction)] = c.result("compressibility") if c.done else None
@@ -499,16 +499,17 @@ def tapped(cases, refs):
                     tapped_order("compressibility, large < medium < small", model, compress, lab, "compressibility", 1)]
     named = {c.name: c for c in cases}
     twins = [(c, named[c.name.rsplit("-", 1)[0]]) for c in cases
-             if other_rate_case(c.name) and c.name.rsplit("-", 1)[0] in named]
+             if other_rate_case(c.name) is not None and c.name.rsplit("-", 1)[0] in named]
     out += [other_rate(c, twin) for c, twin in twins]
     out += [line for line in (study_case_rate(c, twins) for c in cases) if line]
     return out
 
 
 def other_rate_case(name):
-    """Whether a tapped-density case taps at another rate than the lab's: tap-FRACTION-MODEL-HZhz,
-    the twin of tap-FRACTION-MODEL."""
-    return re.fullmatch(r"tap-[a-z]+-[0-9]+s-[0-9.]+hz", name) is not None
+    """The rate [Hz] a twin case names: tap-FRACTION-MODEL-HZhz, the twin of tap-FRACTION-MODEL
+    tapped at another rate than the lab's; None for any other name."""
+    m = re.fullmatch(r"tap-[a-z]+-[0-9]+s-([0-9.]+)hz", name)
+    return float(m.group(1)) if m else None
 
 
 def study_case_rate(c, twins):
@@ -516,9 +517,9 @@ def study_case_rate(c, twins):
     says so and names the twins (other-rate case, twin) that measured that rate; else ''."""
     hz = c.parameter("tap_frequency")
     hz = float(re.sub(r"\s*Hz$", "", hz)) if hz else LAB_TAP_RATE
-    if other_rate_case(c.name) or hz == LAB_TAP_RATE:
+    if other_rate_case(c.name) is not None or hz == LAB_TAP_RATE:
         return ""
-    pairs = [f"{o.name} against {t.name}" for o, t in twins if float(o.name.split("-")[-1][:-2]) == hz]
+    pairs = [f"{o.name} against {t.name}" for o, t in twins if other_rate_case(o.name) == hz]
     return (f"- {c.name} taps at {hz:g} Hz, not the lab's {LAB_TAP_RATE:g} Hz, and is set against the lab all the "
             "same; what that rate moves: " + ("; ".join(pairs) + " (above)" if pairs else "no twin tapped at both rates"))
 
