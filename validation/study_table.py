@@ -35,7 +35,8 @@ SAMPLES = {"kanmark": (0.815, 0.155, 0.030), "garrison": (0.218, 0.606, 0.176)} 
 LEVELS = (0, 7, 21, 34, 48, 69, 103, 138)  # kPa, compression.yaml's p1 .. p7
 DROPS = ("1h", "2h", "4h", "8h", "16h", "32h")  # h = 5.1 cm
 STUDY_DROPS = ("1h", "8h", "32h")  # those of every sample and model (run-study.sh)
-STIFF_OVERLAP = 10 ** (-2 / 3)  # Hertz overlap of kernels ten times stiffer (comp-large-1s-stiff), relative
+MODELS = ("1s", "5s")  # single spheres, 5-sphere clumps
+STIFF_OVERLAP = 10 ** (-2 / 3)  # Hertz overlap of kernels ten times stiffer (comp-large-MODEL-stiff), relative
 KERNEL_DENSITY = 1373.0  # the kernels' solid density [kg/m3] (docs/wheat.md), that of the packing ratio
 LB_BU = 12.8719  # kg/m3 in 1 lb/bu (docs/wheat.md)
 
@@ -395,17 +396,20 @@ def compression(cases):
             out.append(f"- the bulk density rises with every level, {c.name}: "
                        + verdict(rho, lambda v: all(a < b for a, b in zip(v, v[1:]))))
             out.append(wpacking(c.name, rho))
-    soft, stiff = compaction.get("comp-large-1s"), compaction.get("comp-large-1s-stiff")
-    if soft and stiff is not None:
+    for model in MODELS:
+        soft, stiff = compaction.get(f"comp-large-{model}"), compaction.get(f"comp-large-{model}-stiff")
+        if not soft or stiff is None:
+            continue
         # Hertz: under one load the overlap goes as G^(-2/3), so the stiff kernels still overlap
         # STIFF_OVERLAP as deep. Soft = R + O, stiff = R + STIFF_OVERLAP O, if both rearrange
         # alike (R): O / soft = (1 - stiff / soft) / (1 - STIFF_OVERLAP); 1 - stiff / soft alone
         # is the least it can be.
         least = 1 - stiff / soft
-        out.append(f"- overlap: the kernels ten times stiffer compact {stiff:.1f} % where the study's compact "
-                   f"{soft:.1f} %; of the study's material's compaction at least {100 * least:.0f} % is the "
-                   f"kernels' overlap, about {100 * least / (1 - STIFF_OVERLAP):.0f} % if both rearrange alike "
-                   f"(the stiff kernels overlap {STIFF_OVERLAP:.2f} times as deep), the rest their rearranging")
+        out.append(f"- overlap, {model}: the kernels ten times stiffer compact {stiff:.1f} % where the study's "
+                   f"compact {soft:.1f} %; of the study's material's compaction at least {100 * least:.0f} % is "
+                   f"the kernels' overlap, about {100 * least / (1 - STIFF_OVERLAP):.0f} % if both rearrange "
+                   f"alike (the stiff kernels overlap {STIFF_OVERLAP:.2f} times as deep), the rest their "
+                   f"rearranging")
     return out
 
 
