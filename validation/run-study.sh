@@ -144,10 +144,26 @@ finished() { run_finished "$kept/$1"; }
 
 park() { park_unfinished "$runs" "$kept" "${all[@]}"; }
 
+# The finished tapped cases' density tap by tap and kinetic energy through a tap's period
+# (validation/tap_series.py, into validation/results/tap-series.csv and tap-phases.csv), from the
+# run folders this checkout has; the rows of cases whose folders are gone stay.
+tap_series() {
+  local c finished_runs=()
+  for c in "${all[@]}"; do
+    if [[ "$c" == tap-* ]] && run_finished "$runs/$c" && [ -f "$runs/$c/timeseries.csv" ]; then
+      finished_runs+=("$runs/$c")
+    fi
+  done
+  [ ${#finished_runs[@]} -gt 0 ] || return 0
+  /usr/bin/python3 "$root/validation/tap_series.py" --update --csv "$root/validation/results/tap-series.csv" \
+    --phases "$root/validation/results/tap-phases.csv" "${finished_runs[@]}" > /dev/null
+}
+
 # The tables of every case so far (validation/study_table.py), and the report of the finished
 # ones beside the lab values.
 table() {  # (through a file of its own: two scripts may write it at once)
   local tmp
+  tap_series
   tmp=$(mktemp "$root/validation/results/study.md.XXXXXX")
   /usr/bin/python3 "$root/validation/study_table.py" "$runs" "$kept" "$root/data/reference_values.csv" \
     "${all[@]}" > "$tmp"

@@ -10,7 +10,8 @@ usage: study_table.py RUNS KEPT REFERENCES [CASE...]
               checkpoint.bin and timeseries.csv while it runs
   KEPT        the kept results (validation/results/study-runs): CASE/summary.json of finished
               cases, CASE/checkpoint.bin.xz and timeseries.csv.xz of parked ones; a kept
-              summary is read before the run folder's
+              summary is read before the run folder's; tap-phases.csv beside it, where there is
+              one, gives each tapped case's kinetic energy through a tap's period
   REFERENCES  data/reference_values.csv
   CASE        tw-SAMPLE-MODEL-DROP[-seedN] (test weight of the sample kanmark or garrison, or of
               one pure fraction, large, medium or small; with another seed), tw-dt-PERCENT-seedN
@@ -465,7 +466,7 @@ def lab_loose_fill(lab, fraction):
     return None if ratio is None or c is None else ratio * KERNEL_DENSITY * (1 - c)
 
 
-def tapped(cases, refs):
+def tapped(cases, refs, phases):
     lab = refs.tapped
     out = ["## Loose and tapped density (scenarios/tapped-density.yaml)", "",
            "The 400 cm3 cylinder filled through a funnel and struck (loose), topped up in an extension, "
@@ -506,7 +507,7 @@ def tapped(cases, refs):
              if other_rate_case(c.name) is not None and c.name.rsplit("-", 1)[0] in named]
     out += [other_rate(c, twin) for c, twin in twins]
     out += [line for line in (study_case_rate(c, twins) for c in cases) if line]
-    return out
+    return out + at_rest(cases, phases)
 
 
 def other_rate_case(name):
@@ -554,7 +555,7 @@ def tapped_order(what, model, values, lab, key, sign):
     return f"- {what}, {model}: {words}; the lab: " + ", ".join(f"{lab[(f, key)]:.3f}" for f in FRACTIONS)
 
 
-def tap_rate(cases):
+def tap_rate(cases, phases):
     out = ["## Loose and tapped density: the tapping rate (reduced sample)", "",
            "110 g of large single-sphere kernels into the cylinder cut to 30 mm, 40 g more into a 30 mm "
            "extension, 500 taps of 3 mm at the lab's 4.33 Hz and at 8.66 Hz, two seeds each. Each tap's "
@@ -579,6 +580,35 @@ def tap_rate(cases):
         for what, d in (("tapped density", tapped), ("density before the strike", before)):
             a, b = d[rates[0]], d[rates[1]]
             out += told_apart(f"{what} at {rates[1]} Hz against {rates[0]} Hz", a, b, pooled_sd([a, b]), "the rates")
+    return out + at_rest(cases, phases)
+
+
+def tap_phases(kept):
+    """The tapped cases' kinetic energy by the time into a tap's period, from tap-phases.csv beside
+    KEPT (validation/tap_series.py --phases, which run-study.sh refreshes): {case: [(bin's start
+    [s], kinetic energy per particle [J])]}; empty where there is no such file."""
+    path = os.path.join(os.path.dirname(os.path.abspath(kept)), "tap-phases.csv")
+    phases = {}
+    if os.path.exists(path):
+        with open(path, newline="") as f:
+            for r in csv.DictReader(f):
+                phases.setdefault(r["case"], []).append((float(r["phase_start"]),
+                                                         float(r["kinetic_energy_per_particle"])))
+    return phases
+
+
+def at_rest(cases, phases):
+    """Per finished case with phases: the quietest bin of a tap's period against the bin just
+    after the impact, as a line: whether the bed is at rest before the next fall."""
+    out = []
+    for c in cases:
+        bins = phases.get(c.name)
+        if not (c.done and bins and len(bins) > 1):
+            continue
+        t, quiet = min(bins, key=lambda b: b[1])
+        out.append(f"- at rest before each fall, {c.name}: the quietest {1e3 * (bins[1][0] - bins[0][0]):.0f} ms of "
+                   f"a tap's period ({1e3 * t:.0f} ms into it) holds {100 * quiet / bins[0][1]:#.2g} % of the grain's "
+                   "kinetic energy just after the impact")
     return out
 
 
@@ -624,15 +654,15 @@ def tw_time_step(cases):
 
 
 def tables(runs, kept, reference_csv, names):
-    refs = references(reference_csv)
+    refs, phases = references(reference_csv), tap_phases(kept)
     cases = [Case(runs, kept, n) for n in names]
     groups = [
         (lambda n: n.startswith("tw-") and not n.startswith("tw-dt-"), lambda cs: test_weight(cs, refs)),
         (lambda n: n.startswith("tw-dt-"), tw_time_step),
         (lambda n: n.startswith("comp-") and not n.startswith("comp-dt-"), compression),
         (lambda n: n.startswith("comp-dt-"), time_step),
-        (lambda n: n.startswith("tap-") and not n.startswith("tap-rate-"), lambda cs: tapped(cs, refs)),
-        (lambda n: n.startswith("tap-rate-"), tap_rate),
+        (lambda n: n.startswith("tap-") and not n.startswith("tap-rate-"), lambda cs: tapped(cs, refs, phases)),
+        (lambda n: n.startswith("tap-rate-"), lambda cs: tap_rate(cs, phases)),
     ]
     out = ["# The study's experiments at full size", "",
            "Written by `validation/run-study.sh` (validation/study_table.py); the command and how to "

@@ -3,8 +3,8 @@
 (scenarios/tapped-density.yaml): whether grain tapped at another rate packs denser before the
 strike, where the struck (tapped) density also depends on how the strike leaves the surface.
 
-usage: tap_series.py --csv OUT.csv [--phases PHASES.csv] RUN...   # a run folder: summary.json
-                                                                   # and timeseries.csv
+usage: tap_series.py [--update] --csv OUT.csv [--phases PHASES.csv] RUN...   # a run folder:
+                                                                   # summary.json, timeseries.csv
 
 A tap's period is the lift, then the free fall onto the stop: the impact ends it. So in period k
 (from 0) the time series' sample where the cylinder stands lowest comes just after k impacts
@@ -29,6 +29,11 @@ beginning). The quietest bin lies near the top of the lift, where the cylinder s
 kinetic energy bounds the grain's own agitation when the fall begins (it still holds some of the
 cylinder's motion), and the summary sets it against that just after the impact. Writes
 PHASES.csv (case, phase_start [s], kinetic_energy_per_particle [J], z [m], samples).
+
+--update: OUT.csv and PHASES.csv keep the rows of the cases not given (runs whose folders are
+gone), in their order; a case given replaces its rows where they were, a new one comes last.
+Each file is written whole under another name and then renamed, so that two scripts refreshing
+it at once leave one of their versions, never a mix.
 """
 import argparse
 import csv
@@ -96,51 +101,67 @@ def phases(stage):
     return [(i * width, mean(e), mean(z), len(e)) for i, (e, z) in sorted(bins.items())]
 
 
-def write_phases(path, stages):
+def write_rows(path, header, rows, update):
+    """Writes {case: its rows} under header to path; with update, the cases already in the file
+    and not in rows keep their rows and places (see --update)."""
+    cases = {}
+    if update and os.path.exists(path):
+        with open(path, newline="") as f:
+            old = csv.reader(f)
+            if next(old, None) != header:
+                raise SystemExit(f"tap_series.py: {path} does not start with the header {','.join(header)}")
+            for r in old:
+                cases.setdefault(r[0], []).append(r)
+    cases.update(rows)
+    tmp = f"{path}.{os.getpid()}.tmp"
+    with open(tmp, "w", newline="") as out:
+        w = csv.writer(out)
+        w.writerow(header)
+        for r in cases.values():
+            w.writerows(r)
+    os.replace(tmp, path)
+
+
+def write_phases(path, stages, update):
     """PHASES.csv of every run ({case: its tap_stage}), and the summary: the kinetic energy of the
     quietest bin against that just after the impact."""
     print("\n| case | kinetic energy after the impact [J] | quietest [J] | quietest / after the impact "
           "| quietest at [ms into the period] | cylinder there [mm] |")
     print("|---|" + "---|" * 5)
-    with open(path, "w", newline="") as out:
-        w = csv.writer(out)
-        w.writerow(["case", "phase_start", "kinetic_energy_per_particle", "z", "samples"])
-        for case, stage in stages.items():
-            bins = phases(stage)
-            for t, e, z, n in bins:
-                w.writerow([case, f"{t:.4f}", f"{e:.4e}", f"{z:.4e}", n])
-            t, e, z, _ = min(bins, key=lambda b: b[1])
-            print(f"| {case} | {bins[0][1]:.3g} | {e:.3g} | {e / bins[0][1]:.2g} | {t * 1e3:.0f} | {z * 1e3:.2f} |")
+    rows = {}
+    for case, stage in stages.items():
+        bins = phases(stage)
+        rows[case] = [[case, f"{t:.4f}", f"{e:.4e}", f"{z:.4e}", n] for t, e, z, n in bins]
+        t, e, z, _ = min(bins, key=lambda b: b[1])
+        print(f"| {case} | {bins[0][1]:.3g} | {e:.3g} | {e / bins[0][1]:.2g} | {t * 1e3:.0f} | {z * 1e3:.2f} |")
+    write_rows(path, ["case", "phase_start", "kinetic_energy_per_particle", "z", "samples"], rows, update)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--csv", required=True)
     ap.add_argument("--phases", help="also the kinetic energy and height by the time into the period")
+    ap.add_argument("--update", action="store_true", help="keep the rows of the cases not given")
     ap.add_argument("runs", nargs="+")
     a = ap.parse_args()
     print("| case | taps | first tenth [kg/m3] | middle tenth [kg/m3] | last tenth [kg/m3] "
           "| standard error, last (rough) [kg/m3] | largest z [mm] |")
     print("|---|" + "---|" * 6)
-    with open(a.csv, "w", newline="") as out:
-        w = csv.writer(out)
-        w.writerow(["case", "impacts", "bulk_density", "z"])
-        stages = {}  # case -> its tap_stage, read once for both tables
-        for run in a.runs:
-            case = os.path.basename(os.path.normpath(run))
-            stages[case] = tap_stage(run)
-            series = taps(run, stages[case])
-            for k, (rho, z) in enumerate(series):
-                w.writerow([case, k, f"{rho:.2f}", f"{z:.3e}"])
-            rho = [r for r, _ in series]
-            n = max(2, len(rho) // 10)
-            tenths = (rho[:n], rho[(len(rho) - n) // 2:(len(rho) + n) // 2], rho[-n:])
-            last = tenths[-1]
-            se = stdev(last) / math.sqrt(n)
-            print(f"| {case} | {len(rho)} | " + " | ".join(f"{mean(t):.1f}" for t in tenths)
-                  + f" | {se:.1f} | {max(z for _, z in series) * 1e3:.3f} |")
+    stages, rows = {}, {}  # case -> its tap_stage (read once for both tables), its rows
+    for run in a.runs:
+        case = os.path.basename(os.path.normpath(run))
+        stages[case] = tap_stage(run)
+        series = taps(run, stages[case])
+        rows[case] = [[case, k, f"{rho:.2f}", f"{z:.3e}"] for k, (rho, z) in enumerate(series)]
+        rho = [r for r, _ in series]
+        n = max(2, len(rho) // 10)
+        tenths = (rho[:n], rho[(len(rho) - n) // 2:(len(rho) + n) // 2], rho[-n:])
+        se = stdev(tenths[-1]) / math.sqrt(n)
+        print(f"| {case} | {len(rho)} | " + " | ".join(f"{mean(t):.1f}" for t in tenths)
+              + f" | {se:.1f} | {max(z for _, z in series) * 1e3:.3f} |")
+    write_rows(a.csv, ["case", "impacts", "bulk_density", "z"], rows, a.update)
     if a.phases:
-        write_phases(a.phases, stages)
+        write_phases(a.phases, stages, a.update)
 
 
 if __name__ == "__main__":

@@ -290,6 +290,22 @@ expect("| 0.641 | 0.633 |  | 0.0682 |" in row(out, "tap-large-5s-8.66hz"), "anot
 expect("- tap-medium-5s taps at 8.66 Hz, not the lab's 4.33 Hz, and is set against the lab all the same; what that "
        "rate moves: tap-large-5s-8.66hz against tap-large-5s (above)" in out
        and "tap-large-5s taps" not in out, "a study case at another rate, with a twin at it", out)
+# At rest before each fall: the quietest bin of tap-phases.csv beside KEPT against the first (the
+# impact just past), for a finished case only (tap-medium-5s; tap-other-5s has no case).
+with open(os.path.join(work, "tap-phases.csv"), "w") as f:
+    f.write("case,phase_start,kinetic_energy_per_particle,z,samples\n"
+            "tap-medium-5s,0.0000,4.0e-7,1e-6,10\ntap-medium-5s,0.0100,3.0e-10,1e-4,10\n"
+            "tap-medium-5s,0.0200,2.0e-9,2e-4,10\ntap-other-5s,0.0000,1.0e-7,1e-6,10\n"
+            "tap-large-5s-8.66hz,0.0000,1.0e-7,1e-6,10\n"
+            "tap-large-5s,0.0000,1.0e-7,1e-6,10\ntap-large-5s,0.0100,1.0e-9,1e-4,10\n")
+put(runs, "tap-large-5s", dict(summary({}), interrupted=True))
+out = table(names)
+expect("- at rest before each fall, tap-medium-5s: the quietest 10 ms of a tap's period (10 ms into it) holds "
+       "0.075 % of the grain's kinetic energy just after the impact" in out, "the quietest bin, 3e-10 / 4e-7", out)
+expect("at rest before each fall, tap-large-5s" not in out and "tap-other-5s" not in out
+       and "at rest before each fall, tap-large-5s-8.66hz" not in out,
+       "no line for an unfinished case, a case not in the table, or a single bin", out)
+os.remove(os.path.join(work, "tap-phases.csv"))
 
 # The tapping rate: the difference of the seeds' means against their pooled scatter
 # (sd: sqrt((1^2 * 2 + 1.5^2 * 2) / 2) = 1.80; the difference's: 1.80 x sqrt(1/2 + 1/2) = 1.80)

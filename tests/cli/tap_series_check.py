@@ -3,7 +3,8 @@
 sample where the cylinder stands lowest, after as many impacts as periods before it, its density
 scaled by H / (H - z); the CSV holds every period and the
 summary the means of the tenths; --phases averages the kinetic energy and height by the time into
-the period over the periods after the first tenth and names the quietest bin; an unfinished run, a time series short of taps and a
+the period over the periods after the first tenth and names the quietest bin; --update keeps the
+other cases' rows; an unfinished run, a time series short of taps and a
 parameter without a unit it knows are refused with a message that names them.
 
 usage: tap_series_check.py TAP_SERIES_PY WORKDIR
@@ -77,6 +78,25 @@ else:
     line = "| tap-good | 4e-07 | 2e-09 | 0.005 | 100 | 1.00 |"
     if line not in r.stdout:
         failures.append(f"phases' summary line {line!r} not in:\n{r.stdout}")
+
+# --update: another case's rows stay where they were; the case given replaces its own in place,
+# a new one comes last; without --update only the cases given are written.
+if not failures:
+    other = make("tap-other")
+    run("--csv", out_csv, "--phases", phases_csv, other, good)
+    before = [open(out_csv).read(), open(phases_csv).read()]
+    r = run("--update", "--csv", out_csv, "--phases", phases_csv, good)
+    if r.returncode != 0 or [open(out_csv).read(), open(phases_csv).read()] != before:
+        failures.append("--update with a case already there: its rows in place, the other's kept")
+    r = run("--update", "--csv", out_csv, "--phases", phases_csv, make("tap-new"))
+    cases = [x["case"] for x in csv.DictReader(open(phases_csv))]
+    if r.returncode != 0 or list(dict.fromkeys(cases)) != ["tap-other", "tap-good", "tap-new"]:
+        failures.append(f"--update with a new case: cases {list(dict.fromkeys(cases))}")
+    r = run("--csv", out_csv, "--phases", phases_csv, good)
+    if {x["case"] for x in csv.DictReader(open(out_csv))} != {"tap-good"}:
+        failures.append("without --update only the cases given")
+    if [f for f in os.listdir(work) if f.endswith(".tmp")]:
+        failures.append("a temporary file left behind")
 
 for name, kw, words in (("tap-interrupted", {"summary_extra": {"interrupted": True}}, "has not finished"),
                         ("tap-short", {"taps": TAPS - 3}, "17 taps in its time series, not 20"),
