@@ -156,7 +156,8 @@ tap_series() {
   done
   [ ${#finished_runs[@]} -gt 0 ] || return 0
   /usr/bin/python3 "$root/validation/tap_series.py" --update --csv "$root/validation/results/tap-series.csv" \
-    --phases "$root/validation/results/tap-phases.csv" "${finished_runs[@]}" > /dev/null
+    --phases "$root/validation/results/tap-phases.csv" "${finished_runs[@]}" > /dev/null ||
+    echo "run-study.sh: validation/tap_series.py failed (above); the table goes on without it" >&2
 }
 
 # The tables of every case so far (validation/study_table.py), and the report of the finished
