@@ -1,8 +1,8 @@
-# Sourced by bench/replay and bench/replay-pair. continue_copy BUSHEL PHASE_DIR STOP_AT OUT:
-# copies a run folder (checkpoint.bin, timeseries.csv, summary.json) to OUT/run and continues
-# it with the program BUSHEL on THREADS threads (default 1) to STOP_AT (with its unit), writing
-# no checkpoint on the way; the run's output goes to OUT/run.log. Exits with a message if the
-# run fails.
+# Sourced by bench/replay, bench/replay-pair and bench/worker-layout.
+# continue_copy BUSHEL PHASE_DIR STOP_AT OUT: copies a run folder (checkpoint.bin,
+# timeseries.csv, summary.json) to OUT/run and continues it with the program BUSHEL on THREADS
+# threads (default 1) to STOP_AT (with its unit), writing no checkpoint on the way; the run's
+# output goes to OUT/run.log. Exits with a message if the run fails.
 continue_copy() {
   local run="$4/run"
   rm -rf "$run" && mkdir -p "$run"
