@@ -146,18 +146,17 @@ park() { park_unfinished "$runs" "$kept" "${all[@]}"; }
 
 # The finished tapped cases' density tap by tap and kinetic energy through a tap's period
 # (validation/tap_series.py, into validation/results/tap-series.csv and tap-phases.csv), from the
-# run folders this checkout has; the rows of cases whose folders are gone stay.
+# run folders this checkout has, one case at a time (one that fails leaves the others); the rows
+# of cases whose folders are gone stay.
 tap_series() {
-  local c finished_runs=()
+  local c
   for c in "${all[@]}"; do
     if [[ "$c" == tap-* ]] && run_finished "$runs/$c" && [ -f "$runs/$c/timeseries.csv" ]; then
-      finished_runs+=("$runs/$c")
+      /usr/bin/python3 "$root/validation/tap_series.py" --update --csv "$root/validation/results/tap-series.csv" \
+        --phases "$root/validation/results/tap-phases.csv" "$runs/$c" > /dev/null ||
+        echo "run-study.sh: validation/tap_series.py failed on $c (above); the table goes on without it" >&2
     fi
   done
-  [ ${#finished_runs[@]} -gt 0 ] || return 0
-  /usr/bin/python3 "$root/validation/tap_series.py" --update --csv "$root/validation/results/tap-series.csv" \
-    --phases "$root/validation/results/tap-phases.csv" "${finished_runs[@]}" > /dev/null ||
-    echo "run-study.sh: validation/tap_series.py failed (above); the table goes on without it" >&2
 }
 
 # The tables of every case so far (validation/study_table.py), and the report of the finished

@@ -3,8 +3,8 @@
 (scenarios/tapped-density.yaml): whether grain tapped at another rate packs denser before the
 strike, where the struck (tapped) density also depends on how the strike leaves the surface.
 
-usage: tap_series.py [--update] --csv OUT.csv [--phases PHASES.csv] RUN...   # a run folder:
-                                                                   # summary.json, timeseries.csv
+usage: tap_series.py [--update] --csv OUT.csv [--phases PHASES.csv] RUN...
+  RUN: a finished run's folder (summary.json, timeseries.csv)
 
 A tap's period is the lift, then the free fall onto the stop: the impact ends it. So in period k
 (from 0) the time series' sample where the cylinder stands lowest comes just after k impacts
