@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cup_table import engine, exponent, fmt, progress  # noqa: E402
+from tap_series import quietest  # noqa: E402
 
 FRACTIONS = ("large", "medium", "small")
 SAMPLES = {"kanmark": (0.815, 0.155, 0.030), "garrison": (0.218, 0.606, 0.176)}  # by mass (docs/wheat.md)
@@ -606,9 +607,9 @@ def at_rest(cases, phases):
         bins = phases.get(c.name)
         if not (c.done and bins and len(bins) > 1):
             continue
-        t, quiet = min(bins, key=lambda b: b[1])
+        (t, _), ratio = quietest(bins)
         out.append(f"- before each fall, {c.name}: the quietest {1e3 * (bins[1][0] - bins[0][0]):.0f} ms of "
-                   f"a tap's period ({1e3 * t:.0f} ms into it) holds {100 * quiet / bins[0][1]:#.2g} % of the grain's "
+                   f"a tap's period ({1e3 * t:.0f} ms into it) holds {100 * ratio:#.2g} % of the grain's "
                    "kinetic energy just after the impact")
     return out
 

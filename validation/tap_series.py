@@ -101,6 +101,13 @@ def phases(stage):
     return [(i * width, mean(e), mean(z), len(e)) for i, (e, z) in sorted(bins.items())]
 
 
+def quietest(bins):
+    """The quietest of a run's phase bins (tuples starting with the bin's start [s] and its kinetic
+    energy [J], in time order) and its kinetic energy over the first bin's, just after the impact."""
+    quiet = min(bins, key=lambda b: b[1])
+    return quiet, quiet[1] / bins[0][1]
+
+
 def write_rows(path, header, rows, update):
     """Writes {case: its rows} under header to path; with update, the cases already in the file
     and not in rows keep their rows and places (see --update)."""
@@ -132,8 +139,8 @@ def write_phases(path, stages, update):
     for case, stage in stages.items():
         bins = phases(stage)
         rows[case] = [[case, f"{t:.4f}", f"{e:.4e}", f"{z:.4e}", n] for t, e, z, n in bins]
-        t, e, z, _ = min(bins, key=lambda b: b[1])
-        print(f"| {case} | {bins[0][1]:.3g} | {e:.3g} | {e / bins[0][1]:.2g} | {t * 1e3:.0f} | {z * 1e3:.2f} |")
+        (t, e, z, _), ratio = quietest(bins)
+        print(f"| {case} | {bins[0][1]:.3g} | {e:.3g} | {ratio:.2g} | {t * 1e3:.0f} | {z * 1e3:.2f} |")
     write_rows(path, ["case", "phase_start", "kinetic_energy_per_particle", "z", "samples"], rows, update)
 
 
