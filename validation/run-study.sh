@@ -200,12 +200,13 @@ report() {  # report OUT TITLE full|reduced CASE...: `bushel report` of those ca
   (cd "$root" && "$bushel" report "${dirs[@]}" --out "validation/results/$out" --title "$title" "${refs[@]}")
 }
 reports() {  # the full-size cases, and apart from them each study on a reduced sample
-  local c full=() dt=() twdt=() rate=()
+  local c full=() dt=() twdt=() rate=() model=()
   for c in "${all[@]}"; do
     case "$c" in
       comp-dt-*) dt+=("$c") ;;
       tw-dt-*) twdt+=("$c") ;;
       tap-rate-*) rate+=("$c") ;;
+      tap-model-*) if finished "$c"; then model+=("$c"); fi ;;  # (drawn beside the twins they are set against)
       tap-*hz) rate+=("${c%-*}" "$c") ;;  # (another rate, without the lab's values: beside its twin)
       *) full+=("$c") ;;
     esac
@@ -214,6 +215,8 @@ reports() {  # the full-size cases, and apart from them each study on a reduced 
   report study-time-step "Compression: the lid's time step (reduced sample)" reduced "${dt[@]}"
   report study-tw-time-step "Test weight: the time step of single spheres (reduced sample)" reduced "${twdt[@]}"
   report study-tap-rate "Tapped density: the tapping rate (reduced sample; full-size twins)" reduced "${rate[@]}"
+  [ ${#model[@]} -eq 0 ] || report study-tap-model "Tapped density: other kernels (reduced sample, 8.66 Hz)" \
+    reduced tap-rate-8.66hz-seed1 tap-rate-8.66hz-seed2 "${model[@]}"
 }
 
 case_args() {  # case_args CASE: the case's overrides as bushel's options, in args

@@ -18,7 +18,8 @@ usage: study_table.py RUNS KEPT REFERENCES [CASE...]
               (the single-sphere test weight's time step),
               comp-FRACTION-MODEL[-stiff] (compression), comp-dt-PERCENT (its time step),
               tap-FRACTION-MODEL[-HZhz] (tapped density; at another rate), tap-rate-HZhz-seedN (the
-              tapping rate, reduced);
+              tapping rate, reduced), tap-model-WHAT-seedN (the reduced taps with other kernels,
+              beside tap-rate-8.66hz-seed1 and -seed2);
               default: every case with a folder in RUNS or KEPT, by name
 """
 import csv
@@ -175,6 +176,13 @@ class Case:
         """What the loose or the tapped strike cost [%]: the struck density against
         before_strike, or None."""
         return over(self.result(which + "_bulk_density"), self.before_strike(which))
+
+    def tap_compaction(self):
+        """What the taps alone compacted the cylinder's grain [-]: the kernels centred in it before
+        the tapped strike less those before the loose strike, over the former (compressibility's
+        form without either strike's cost); None until done."""
+        a, b = self.before_strike("loose"), self.before_strike("tapped")
+        return (b - a) / b if self.done and a and b else None
 
     def tail(self):
         """The columns every table ends with: particles, time step, simulated and wall time,
@@ -584,6 +592,43 @@ def tap_rate(cases, phases):
     return out + at_rest(cases, phases)
 
 
+MODEL_TWINS = ("tap-rate-8.66hz-seed1", "tap-rate-8.66hz-seed2")  # the calibrated single spheres beside tap-model
+
+
+def tap_model(cases, twins, phases):
+    """The reduced tapped sample at 8.66 Hz with other kernels (tap-model-*) beside the calibrated
+    single spheres' runs of it (TWINS: tap-rate-8.66hz-seedN)."""
+    out = ["## Loose and tapped density: what the taps' compaction depends on (reduced sample)", "",
+           "The tapping rate's reduced sample (large kernels, the cylinder cut to 30 mm, 500 taps of 3 mm at "
+           "8.66 Hz) with other kernels: the 5-sphere set, and single spheres without rolling friction between "
+           "kernels; beside them the calibrated single spheres' runs of it. Before the strikes: the taps' own "
+           "compaction, (tapped - loose) / tapped of the kernels centred in the cylinder before each strike, "
+           "the grain still above the rim: free of what either strike cost.", ""]
+    out += header("| case | model | rolling friction, kernels | loose [kg/m3] | tapped [kg/m3] | compressibility "
+                  "| before the loose strike [kg/m3] | before the tapped strike [kg/m3] "
+                  "| compaction before the strikes [%]")
+    base = []  # the calibrated single spheres' compaction before the strikes [-], None until done
+    for c in twins + cases:
+        compaction = c.tap_compaction()
+        if c in twins:
+            base.append(compaction)
+        out.append(f"| {c.name} | {c.parameter('model')} | {c.parameter('fr_ww')} "
+                   f"| {c.cell('loose_bulk_density', '.1f')} | {c.cell('tapped_bulk_density', '.1f')} "
+                   f"| {c.cell('compressibility', '.4f')} | {fmt(c.before_strike('loose'), '.1f')} "
+                   f"| {fmt(c.before_strike('tapped'), '.1f')} | {fmt(compaction and 100 * compaction, '.2f')} "
+                   + c.tail())
+    out.append("")
+    for c in cases:
+        line = f"- compaction before the strikes, {c.name} against the calibrated single spheres: "
+        if c.tap_compaction() is None or None in base or not base:
+            out.append(line + "not every case has finished")
+            continue
+        spread = ", ".join(f"{100 * b:.2f}" for b in base)
+        out.append(line + f"{100 * c.tap_compaction():.2f} % against {100 * mean(base):.2f} % "
+                   f"({100 * (c.tap_compaction() - mean(base)):+.2f} points; the single spheres' seeds {spread} %)")
+    return out + at_rest(cases, phases)
+
+
 def tap_phases(kept):
     """The tapped cases' kinetic energy by the time into a tap's period, from tap-phases.csv beside
     KEPT (validation/tap_series.py --phases, which run-study.sh refreshes): {case: [(bin's start
@@ -663,8 +708,11 @@ def tables(runs, kept, reference_csv, names):
         (lambda n: n.startswith("tw-dt-"), tw_time_step),
         (lambda n: n.startswith("comp-") and not n.startswith("comp-dt-"), compression),
         (lambda n: n.startswith("comp-dt-"), time_step),
-        (lambda n: n.startswith("tap-") and not n.startswith("tap-rate-"), lambda cs: tapped(cs, refs, phases)),
+        (lambda n: n.startswith("tap-") and not n.startswith(("tap-rate-", "tap-model-")),
+         lambda cs: tapped(cs, refs, phases)),
         (lambda n: n.startswith("tap-rate-"), lambda cs: tap_rate(cs, phases)),
+        (lambda n: n.startswith("tap-model-"),
+         lambda cs: tap_model(cs, [Case(runs, kept, n) for n in MODEL_TWINS], phases)),
     ]
     out = ["# The study's experiments at full size", "",
            "Written by `validation/run-study.sh` (validation/study_table.py); the command and how to "

@@ -5,7 +5,7 @@ unfinished case is "not started", "running or stopped" or "parked", an interrupt
 failed one does not count as finished; the checks (KanMark > Garrison, the rise with drop
 height, the pure fractions' order, the rise with pressure, the tapped fractions'
 packing ratio and compressibility in the lab's order, a case tapped at another rate against its
-twin) say "holds" or "does NOT hold" from
+twin, a reduced case with other kernels against the single spheres' compaction before the strikes) say "holds" or "does NOT hold" from
 the values and wait for every case, on the means of a case's seeds, naming the steps within the seeds' scatter, and
 the tapping rates and the test weight's time steps are told apart or not against the seeds'
 scatter; the
@@ -335,6 +335,29 @@ out = table(sorted(rate))
 expect("8.66 Hz against" not in out, "no verdict before every rate case has finished", out)
 for case in rate:
     shutil.rmtree(os.path.join(runs, case))
+
+# The reduced taps with other kernels beside the calibrated single spheres at 8.66 Hz: the
+# compaction before the strikes, (tapped + 45 - loose - 40) / (tapped + 45) of tap(): the twins
+# 35 / 845 = 4.14 % and 40 / 850 = 4.71 % (mean 4.42), the 5-sphere case 55 / 875 = 6.29 %.
+model = ["tap-model-5s-seed1", "tap-model-no-rolling-seed1"]
+put(runs, "tap-rate-8.66hz-seed1", tap(770.0, 800.0))
+put(runs, "tap-rate-8.66hz-seed2", dict(summary({}), interrupted=True))
+put(runs, "tap-model-5s-seed1", dict(tap(780.0, 830.0), parameters={"model": "5s", "fr_ww": "0.01"}))
+out = table(model)
+expect("- compaction before the strikes, tap-model-5s-seed1 against the calibrated single spheres: not every case "
+       "has finished" in out, "the comparison waits for the twins", out)
+put(runs, "tap-rate-8.66hz-seed2", tap(770.0, 805.0))
+out = table(model)
+expect("| tap-model-5s-seed1 | 5s | 0.01 | 780.0 | 830.0 | 0.0602 | 820.0 | 875.0 | 6.29 |" in out
+       and "| tap-rate-8.66hz-seed2 |  |  | 770.0 | 805.0 | 0.0435 | 810.0 | 850.0 | 4.71 |" in out,
+       "the rows: the twins first, the compaction before the strikes", out)
+expect("- compaction before the strikes, tap-model-5s-seed1 against the calibrated single spheres: 6.29 % against "
+       "4.42 % (+1.86 points; the single spheres' seeds 4.14, 4.71 %)" in out, "against the twins' mean", out)
+expect("- compaction before the strikes, tap-model-no-rolling-seed1 against the calibrated single spheres: not every "
+       "case has finished" in out and "Loose and tapped density (scenarios" not in out
+       and "the tapping rate (reduced" not in out, "an unstarted case; not in the other tapped tables", out)
+for case in model + ["tap-rate-8.66hz-seed1", "tap-rate-8.66hz-seed2"]:
+    shutil.rmtree(os.path.join(runs, case), ignore_errors=True)
 
 # The single-sphere test weight's time step: each coarser step's seeds against the finest's
 # (sd: sqrt(2) from pairs 2 apart; the difference's: 1.41; 20 %: -4.0 > 2 x 1.41, 10 %: -2.0 not)
