@@ -3,13 +3,12 @@
 summaries: every row has its header's cells; kept results are read before run folders; an
 unfinished case is "not started", "running or stopped" or "parked", an interrupted one or a
 failed one does not count as finished; the checks (KanMark > Garrison, the rise with drop
-height, the pure fractions' order, the rise with pressure, the tapped fractions'
-packing ratio and compressibility in the lab's order, a case tapped at another rate against its
-twin, a reduced case with other kernels against the single spheres' compaction before the strikes) say "holds" or "does NOT hold" from
-the values and wait for every case, on the means of a case's seeds, naming the steps within the seeds' scatter, and
-the tapping rates and the test weight's time steps are told apart or not against the seeds'
-scatter; the
-compaction, the overlap's share of it, the WPACKING fit and the time-step span are the arithmetic of the
+height, the pure fractions' order, the rise with pressure, the tapped fractions' packing ratio
+and compressibility in the lab's order, a case tapped at another rate against its twin, a
+reduced case with other kernels against the single spheres' compaction before the strikes) say
+"holds" or "does NOT hold" from the values and wait for every case, on the means of a case's
+seeds, naming the steps within the seeds' scatter, and the tapping rates and the test weight's
+time steps are told apart or not against the seeds' scatter; the compaction, the overlap's share of it, the WPACKING fit and the time-step span are the arithmetic of the
 values, and so are a test weight against the lab's expectation (also
 written as a reference table) or, for a pure fraction, its measurement, a sample's mixing excess
 over the pure fractions, a pure fraction against the lab's three loose densities of it, and
