@@ -8,13 +8,13 @@ and compressibility in the lab's order, a case tapped at another rate against it
 reduced case with other kernels against the single spheres' compaction before the strikes) say
 "holds" or "does NOT hold" from the values and wait for every case, on the means of a case's
 seeds, naming the steps within the seeds' scatter, and the tapping rates and the test weight's
-time steps are told apart or not against the seeds' scatter; the compaction, the overlap's share of it, the WPACKING fit and the time-step span are the arithmetic of the
-values, and so are a test weight against the lab's expectation (also
-written as a reference table) or, for a pure fraction, its measurement, a sample's mixing excess
-over the pure fractions, a pure fraction against the lab's three loose densities of it, and
-the strike's loss; the lab's mixing excess is the special
-cubic of made-up mixtures that follow one exactly; a density over a sensor the grain did not
-fill is marked; without cases the script takes every case it finds.
+time steps are told apart or not against the seeds' scatter; the compaction, the overlap's
+share of it, the WPACKING fit and the time-step span are the arithmetic of the values, and so
+are a test weight against the lab's expectation (also written as a reference table) or, for a
+pure fraction, its measurement, a sample's mixing excess over the pure fractions, a pure
+fraction against the lab's three loose densities of it, and the strike's loss; the lab's mixing
+excess is the special cubic of made-up mixtures that follow one exactly; a density over a
+sensor the grain did not fill is marked; without cases the script takes every case it finds.
 
 usage: study_table_check.py STUDY_TABLE_PY REFERENCES WORKDIR
 """
