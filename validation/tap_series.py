@@ -6,17 +6,20 @@ strike, where the struck (tapped) density also depends on how the strike leaves 
 usage: tap_series.py [--update] --csv OUT.csv [--phases PHASES.csv] RUN...
   RUN: a finished run's folder (summary.json, timeseries.csv)
 
-A tap's period is the lift, then the free fall onto the stop: the impact ends it. So in period k
-(from 0) the time series' sample where the cylinder stands lowest comes just after k impacts
-(k = 0: the settled fill before the first; the state after the last is the stage tapped_rest's),
-the extension's grain above the rim, so the cylinder is full. Its cylinder sensor's bulk density
-(kernels centred in it) is read there. The sensor is fixed in space and the cylinder has risen
-by z at that sample (up to 0.02 mm at 4.33 Hz, 0.09 mm at 8.66 Hz: 10 ms into the lift), so the
-bottom z of the sensor is empty: the value is scaled by H / (H - z), H the cylinder's height
-(at 8.66 Hz in a 30 mm cylinder up to 0.3 %). Writes every period to OUT.csv (case, impacts,
-bulk_density [kg/m3], z [m]) and prints, per run, the means over the first, the middle and the
-last tenth of the periods, with a rough standard error of the last (the scatter about its mean
-over the square root of the count). The values are not independent: the bed carries over from
+A tap's period is the lift, then the free fall onto the stop: the impact ends it. So in period
+k (from 0) the time series' sample where the cylinder stands lowest comes just after k impacts
+(k = 0: the settled fill before the first; the state after the last is the stage
+tapped_rest's), the extension's grain above the rim, so the cylinder is full. Its cylinder
+sensor's bulk density (kernels centred in it) is read there. The sensor is fixed in space and
+the cylinder has risen by z at that sample (up to 0.02 mm at 4.33 Hz, 0.09 mm at 8.66 Hz: 10 ms
+into the lift), so the bottom z of the sensor is empty: the value is scaled by H / (H - z), H
+the cylinder's height (at 8.66 Hz in a 30 mm cylinder up to 0.3 %). Writes every period to
+OUT.csv (case, impacts, bulk_density [kg/m3], z [m]) and prints, per run, the means over the
+first, the middle and the last tenth of the periods, with a rough standard error of the last
+(the scatter about its mean over the square root of the count), and how fast it still grows:
+the least-squares slope of the density against the log of the count of impacts from the fifth
+of the taps on (from the 100th of 500), in kg/m3 per tenfold taps, as a tapped bed's density
+grows about as the log of the count. The values are not independent: the bed carries over from
 tap to tap, and where the period is not a whole number of samples the sample's delay after the
 impact alternates from tap to tap (at 8.66 Hz, 11.5 samples of 10 ms), which shows as
 neighbouring values moving opposite ways.
@@ -82,6 +85,20 @@ def taps(run, stage):
     if len(lowest) != count:
         raise SystemExit(f"tap_series.py: {run}: {len(lowest)} taps in its time series, not {count}")
     return [(rho * height / (height - z), z) for z, rho in (lowest[k] for k in range(count))]
+
+
+def per_decade(rho, first):
+    """How fast the density still grows: the least-squares slope of rho (one value per period,
+    period k after k impacts) against log10(k) over the periods from FIRST on [kg/m3 per tenfold
+    taps], and a rough standard error of it (the residuals' scatter, as if independent, which
+    they are not: see the module's doc)."""
+    x = [math.log10(k) for k in range(first, len(rho))]
+    y = rho[first:]
+    mx, my = mean(x), mean(y)
+    sxx = sum((a - mx) ** 2 for a in x)
+    slope = sum((a - mx) * (b - my) for a, b in zip(x, y)) / sxx
+    rss = sum((b - my - slope * (a - mx)) ** 2 for a, b in zip(x, y))
+    return slope, math.sqrt(rss / (len(x) - 2) / sxx)
 
 
 def phases(stage):
@@ -152,8 +169,9 @@ def main():
     ap.add_argument("runs", nargs="+")
     a = ap.parse_args()
     print("| case | taps | first tenth [kg/m3] | middle tenth [kg/m3] | last tenth [kg/m3] "
-          "| standard error, last (rough) [kg/m3] | largest z [mm] |")
-    print("|---|" + "---|" * 6)
+          "| standard error, last (rough) [kg/m3] | per tenfold taps, from the fifth [kg/m3] (rough error) "
+          "| largest z [mm] |")
+    print("|---|" + "---|" * 7)
     stages, rows = {}, {}  # case -> its tap_stage (read once for both tables), its rows
     for run in a.runs:
         case = os.path.basename(os.path.normpath(run))
@@ -164,8 +182,9 @@ def main():
         n = max(2, len(rho) // 10)
         tenths = (rho[:n], rho[(len(rho) - n) // 2:(len(rho) + n) // 2], rho[-n:])
         se = stdev(tenths[-1]) / math.sqrt(n)
+        slope, slope_se = per_decade(rho, max(1, len(rho) // 5))
         print(f"| {case} | {len(rho)} | " + " | ".join(f"{mean(t):.1f}" for t in tenths)
-              + f" | {se:.1f} | {max(z for _, z in series) * 1e3:.3f} |")
+              + f" | {se:.1f} | {slope:.1f} ({slope_se:.1f}) | {max(z for _, z in series) * 1e3:.3f} |")
     write_rows(a.csv, ["case", "impacts", "bulk_density", "z"], rows, a.update)
     if a.phases:
         write_phases(a.phases, stages, a.update)

@@ -2,7 +2,7 @@
 """validation/tap_series.py on a made-up tapped-density run: each period of the taps takes the
 sample where the cylinder stands lowest, after as many impacts as periods before it, its density
 scaled by H / (H - z); the CSV holds every period and the
-summary the means of the tenths; --phases averages the kinetic energy and height by the time into
+summary the means of the tenths and the slope against the log of the impacts from the fifth on; --phases averages the kinetic energy and height by the time into
 the period over the periods after the first tenth and names the quietest bin; --update keeps the
 other cases' rows; an unfinished run, a time series short of taps and a
 parameter without a unit it knows are refused with a message that names them.
@@ -15,6 +15,8 @@ import os
 import shutil
 import subprocess
 import sys
+
+import numpy
 
 script, work = sys.argv[1:3]
 shutil.rmtree(work, ignore_errors=True)
@@ -67,7 +69,12 @@ else:
     if got != want:
         failures.append(f"densities {got}, not {want}")
     # (tenths of 20 taps: 2 each; first 800, 801; middle 809, 810; last 818, 819; all x scale)
-    line = f"| tap-good | 20 | {800.5 * scale:.1f} | {809.5 * scale:.1f} | {818.5 * scale:.1f} | 0.5 | 0.300 |"
+    # (the slope against log10 of the impacts from the fifth, 4, to 19, by numpy's least squares)
+    slope, icpt = numpy.polyfit(numpy.log10(range(4, TAPS)), [w for w in want[4:]], 1)
+    rms = numpy.sqrt(sum((w - icpt - slope * numpy.log10(k)) ** 2 for k, w in enumerate(want) if k >= 4) / 14)
+    slope_se = rms / numpy.sqrt(sum((numpy.log10(range(4, TAPS)) - numpy.log10(range(4, TAPS)).mean()) ** 2))
+    line = (f"| tap-good | 20 | {800.5 * scale:.1f} | {809.5 * scale:.1f} | {818.5 * scale:.1f} | 0.5 "
+            f"| {slope:.1f} ({slope_se:.1f}) | 0.300 |")
     if line not in r.stdout:
         failures.append(f"summary line {line!r} not in:\n{r.stdout}")
     rows = list(csv.DictReader(open(phases_csv)))
