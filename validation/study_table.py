@@ -624,8 +624,14 @@ def tap_model(cases, twins, phases):
             out.append(line + "not every case has finished")
             continue
         spread = ", ".join(f"{100 * b:.2f}" for b in base)
-        out.append(line + f"{100 * c.tap_compaction():.2f} % against {100 * mean(base):.2f} % "
-                   f"({100 * (c.tap_compaction() - mean(base)):+.2f} points; the single spheres' seeds {spread} %)")
+        line += (f"{100 * c.tap_compaction():.2f} % against {100 * mean(base):.2f} % "
+                 f"({100 * (c.tap_compaction() - mean(base)):+.2f} points; the single spheres' seeds {spread} %")
+        sd = pooled_sd([base])  # (one run's scatter from the single spheres' seeds alone)
+        if sd is not None:
+            told, sd_diff = apart(base, [c.tap_compaction()], sd)
+            line += (f"; one run's standard deviation {100 * sd:.2f} points from them, the difference's "
+                     f"{100 * sd_diff:.2f}: " + ("told apart" if told else "not told apart (under two standard deviations)"))
+        out.append(line + ")")
     return out + at_rest(cases, phases)
 
 

@@ -91,7 +91,9 @@ def per_decade(rho, first):
     """How fast the density still grows: the least-squares slope of rho (one value per period,
     period k after k impacts) against log10(k) over the periods from FIRST on [kg/m3 per tenfold
     taps], and a rough standard error of it (the residuals' scatter, as if independent, which
-    they are not: see the module's doc)."""
+    they are not: see the module's doc); (None, None) under three periods from FIRST."""
+    if len(rho) - first < 3:
+        return None, None
     x = [math.log10(k) for k in range(first, len(rho))]
     y = rho[first:]
     mx, my = mean(x), mean(y)
@@ -184,7 +186,8 @@ def main():
         se = stdev(tenths[-1]) / math.sqrt(n)
         slope, slope_se = per_decade(rho, max(1, len(rho) // 5))
         print(f"| {case} | {len(rho)} | " + " | ".join(f"{mean(t):.1f}" for t in tenths)
-              + f" | {se:.1f} | {slope:.1f} ({slope_se:.1f}) | {max(z for _, z in series) * 1e3:.3f} |")
+              + f" | {se:.1f} | {'' if slope is None else f'{slope:.1f} ({slope_se:.1f})'} "
+              + f"| {max(z for _, z in series) * 1e3:.3f} |")
     write_rows(a.csv, ["case", "impacts", "bulk_density", "z"], rows, a.update)
     if a.phases:
         write_phases(a.phases, stages, a.update)

@@ -340,7 +340,7 @@ for case in rate:
 # 35 / 845 = 4.14 % and 40 / 850 = 4.71 % (mean 4.42), the 5-sphere case 55 / 875 = 6.29 %.
 model = ["tap-model-5s-seed1", "tap-model-no-rolling-seed1"]
 put(runs, "tap-rate-8.66hz-seed1", tap(770.0, 800.0))
-put(runs, "tap-rate-8.66hz-seed2", dict(summary({}), interrupted=True))
+put(runs, "tap-rate-8.66hz-seed2", dict(tap(770.0, 805.0), interrupted=True))  # (its stages do not count)
 put(runs, "tap-model-5s-seed1", dict(tap(780.0, 830.0), parameters={"model": "5s", "fr_ww": "0.01"}))
 out = table(model)
 expect("- compaction before the strikes, tap-model-5s-seed1 against the calibrated single spheres: not every case "
@@ -350,8 +350,20 @@ out = table(model)
 expect("| tap-model-5s-seed1 | 5s | 0.01 | 780.0 | 830.0 | 0.0602 | 820.0 | 875.0 | 6.29 |" in out
        and "| tap-rate-8.66hz-seed2 |  |  | 770.0 | 805.0 | 0.0435 | 810.0 | 850.0 | 4.71 |" in out,
        "the rows: the twins first, the compaction before the strikes", out)
+# (one run's standard deviation from the twins: 0.565 / sqrt(2) = 0.40 points; the difference's
+# 0.40 x sqrt(1 + 1/2) = 0.49; +1.86 > 2 x 0.49: told apart)
 expect("- compaction before the strikes, tap-model-5s-seed1 against the calibrated single spheres: 6.29 % against "
-       "4.42 % (+1.86 points; the single spheres' seeds 4.14, 4.71 %)" in out, "against the twins' mean", out)
+       "4.42 % (+1.86 points; the single spheres' seeds 4.14, 4.71 %; one run's standard deviation 0.40 points from "
+       "them, the difference's 0.49: told apart)" in out, "against the twins' mean", out)
+# (42 / 850 = 4.94 %: +0.52 points, under 2 x 0.49)
+put(runs, "tap-model-no-rolling-seed1", tap(768.0, 805.0))
+out = table(model)
+expect("- compaction before the strikes, tap-model-no-rolling-seed1 against the calibrated single spheres: 4.94 % "
+       "against 4.42 % (+0.52 points; the single spheres' seeds 4.14, 4.71 %; one run's standard deviation 0.40 "
+       "points from them, the difference's 0.49: not told apart (under two standard deviations))" in out,
+       "within the twins' scatter", out)
+shutil.rmtree(os.path.join(runs, "tap-model-no-rolling-seed1"))
+out = table(model)
 expect("- compaction before the strikes, tap-model-no-rolling-seed1 against the calibrated single spheres: not every "
        "case has finished" in out and "Loose and tapped density (scenarios" not in out
        and "the tapping rate (reduced" not in out, "an unstarted case; not in the other tapped tables", out)

@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """validation/tap_series.py on a made-up tapped-density run: each period of the taps takes the
-sample where the cylinder stands lowest, after as many impacts as periods before it, its density
-scaled by H / (H - z); the CSV holds every period and the
-summary the means of the tenths and the slope against the log of the impacts from the fifth on; --phases averages the kinetic energy and height by the time into
-the period over the periods after the first tenth and names the quietest bin; --update keeps the
-other cases' rows; an unfinished run, a time series short of taps and a
-parameter without a unit it knows are refused with a message that names them.
+sample where the cylinder stands lowest, after as many impacts as periods before it, its
+density scaled by H / (H - z); the CSV holds every period and the summary the means of the
+tenths and the slope against the log of the impacts from the fifth on; --phases averages the
+kinetic energy and height by the time into the period over the periods after the first tenth
+and names the quietest bin; --update keeps the other cases' rows; an unfinished run, a time
+series short of taps and a parameter without a unit it knows are refused with a message that
+names them.
 
 usage: tap_series_check.py TAP_SERIES_PY WORKDIR
 """
@@ -111,6 +112,12 @@ if not failures:
     r = run("--update", "--csv", out_csv, "--phases", phases_csv, good)
     if r.returncode == 0 or "does not start with the header case,phase_start" not in r.stderr:
         failures.append(f"--update onto a file of another header: exit {r.returncode}, {r.stderr}")
+
+# Three taps: too few for the slope (from the first on, two periods), an empty cell, not a crash.
+three = make("tap-three", {"parameters": {"tap_frequency": f"{RATE:g}Hz", "height": "30 mm", "taps": "3"}}, taps=3)
+r = run("--csv", os.path.join(work, "three.csv"), three)
+if r.returncode != 0 or "| tap-three | 3 | " not in r.stdout or "|  | 0.300 |" not in r.stdout:
+    failures.append(f"three taps: exit {r.returncode}, {r.stdout}{r.stderr}")
 
 for name, kw, words in (("tap-interrupted", {"summary_extra": {"interrupted": True}}, "has not finished"),
                         ("tap-short", {"taps": TAPS - 3}, "17 taps in its time series, not 20"),
