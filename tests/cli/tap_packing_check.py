@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""validation/tap_packing.py on made-up runs whose solid fraction is known: loose, a simple cubic
+lattice of equal spheres (pi / 6) up to a little above the region (so that the region's height
+counts); tapped, a lattice of overlapping pairs of a large and a small
+sphere (their union, by the lens formula: overlaps count once, and a point inside the large
+sphere nearer the small one's centre counts). Each state takes the last frame of its stretch
+(loose: from the stage rest to the taps; tapped: from tapped_rest to the tapped strike);
+the bulk density is the fraction x the kernels' density; an unfinished run, a stage without a
+frame, a quantity without a unit and a core wider than the cylinder are refused with a message
+that names them.
+
+usage: tap_packing_check.py TAP_PACKING_PY WORKDIR
+"""
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+
+script, work = sys.argv[1:3]
+shutil.rmtree(work, ignore_errors=True)
+failures = []
+RADIUS, HEIGHT, DENSITY = 0.03175, 0.040, 1000.0  # the cylinder [m], the kernels [kg/m3]
+A = 1e-3  # the simple cubic lattice's spheres [m], 2 A apart
+BIG, SMALL, APART, CELL = 0.8e-3, 0.3e-3, 0.9e-3, 2.4e-3  # the pairs' radii and distance, their lattice [m]
+
+
+def lens(R, r, d):
+    """The volume two spheres of radii R and r whose centres lie d apart share."""
+    return math.pi * (R + r - d) ** 2 * (d * d + 2 * d * r - 3 * r * r + 2 * d * R + 6 * r * R - 3 * R * R) / (12 * d)
+
+
+PAIRS = (4 / 3 * math.pi * (BIG ** 3 + SMALL ** 3) - lens(BIG, SMALL, APART)) / CELL ** 3
+CUBIC = math.pi / 6
+
+
+TOP = HEIGHT - 7e-3  # the lattices' highest centres [m]: above the region's top (8 mm under the rim), not the rim
+
+
+def lattice(step, offsets):
+    """Sphere centres and radii: each (dx, radius) of OFFSETS at every point of a cubic lattice
+    of STEP that fills the cylinder up to TOP."""
+    n = int(RADIUS / step) + 2
+    g = np.arange(-n, n + 1) * step
+    x, y, z = np.meshgrid(g, g, np.arange(0, int(TOP / step)) * step + step / 2, indexing="ij")
+    base = np.column_stack((x.ravel(), y.ravel(), z.ravel()))
+    base = base[np.hypot(base[:, 0], base[:, 1]) < RADIUS + step]
+    points = np.vstack([base + [dx, 0, 0] for dx, _ in offsets])
+    radii = np.concatenate([np.full(len(base), r) for _, r in offsets])
+    return points, radii
+
+
+def vtu(path, points, radii):
+    def array(name, values, components=1):
+        text = " ".join(repr(float(v)) for v in np.ravel(values))
+        named = f' Name="{name}"' if name else ""
+        return (f'<DataArray type="Float64"{named} NumberOfComponents="{components}" format="ascii">'
+                f'{text}</DataArray>')
+    n = len(radii)
+    ints = lambda name, values: (f'<DataArray type="Int64" Name="{name}" format="ascii">'  # noqa: E731
+                                 + " ".join(str(v) for v in values) + "</DataArray>")
+    with open(path, "w") as f:
+        f.write('<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian">'
+                f'<UnstructuredGrid><Piece NumberOfPoints="{n}" NumberOfCells="{n}"><PointData>'
+                + array("radius_m", radii) + "</PointData><Points>" + array(None, points, 3) + "</Points><Cells>"
+                + ints("connectivity", range(n)) + ints("offsets", range(1, n + 1))
+                + '<DataArray type="UInt8" Name="types" format="ascii">' + " ".join(["1"] * n) + "</DataArray>"
+                + "</Cells></Piece></UnstructuredGrid></VTKFile>\n")
+
+
+STAGES = (("fill", 0.0), ("rest", 1.0), ("strike", 2.0), ("settle", 2.5), ("tap", 3.0), ("tapped_rest", 5.0),
+          ("unextended", 5.2), ("strike_tapped", 6.0), ("tapped", 6.5), (None, 7.5))  # name, start [s]
+
+
+def make(name, interrupted=False, frame_times=(0.5, 1.5, 2.8, 4.0, 5.5, 7.0), height=f"{HEIGHT * 1e3:g} mm"):
+    """A run with STAGES; the frames at 2.8 s (the lattice, in settle) and 5.5 s (the pairs, in
+    unextended) are the ones to read, the others hold one sphere far above."""
+    run = os.path.join(work, name)
+    os.makedirs(os.path.join(run, "frames"))
+    summary = {"interrupted": interrupted, "failed": None,
+               "parameters": {"diameter": f"{2 * RADIUS * 1e3:g} mm", "height": height,
+                              "kernel_density": f"{DENSITY:g} kg/m3"},
+               "stages": [{"name": n, "start_s": t, "end_s": e} for (n, t), (_, e) in zip(STAGES, STAGES[1:])]}
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump(summary, f)
+    far = (np.array([[0.0, 0.0, 1.0]]), np.array([A]))  # (one sphere far above: the wrong frame reads 0)
+    pvd = []
+    for i, t in enumerate(frame_times):
+        points, radii = {2.8: lattice(2 * A, [(0.0, A)]),
+                         5.5: lattice(CELL, [(0.0, BIG), (APART, SMALL)])}.get(t, far)
+        vtu(os.path.join(run, "frames", f"particles_{i:05d}.vtu"), points, radii)
+        pvd.append(f'<DataSet timestep="{t}" group="" part="0" file="particles_{i:05d}.vtu"/>')
+    with open(os.path.join(run, "frames", "particles.pvd"), "w") as f:
+        f.write('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1"><Collection>'
+                + "".join(pvd) + "</Collection></VTKFile>\n")
+    return run
+
+
+def run(*args):
+    return subprocess.run([sys.executable, script, *args], capture_output=True, text=True)
+
+
+good = make("tap-good")
+out_csv = os.path.join(work, "packing.csv")
+r = run("--points", "100000", "--core", "15 mm", "--margin", "8 mm", "--csv", out_csv, good)
+if r.returncode != 0:
+    failures.append("a finished run: " + r.stderr)
+else:
+    rows = list(csv.DictReader(open(out_csv)))
+    got = [(x["state"], float(x["time"]), x["stage"], x["region"], float(x["radius"])) for x in rows]
+    want = [("loose", 2.8, "settle", "core", 0.015), ("loose", 2.8, "settle", "whole", RADIUS),
+            ("tapped", 5.5, "unextended", "core", 0.015), ("tapped", 5.5, "unextended", "whole", RADIUS)]
+    if got != want:
+        failures.append(f"the rows' states, frames, regions: {got}, not {want}")
+    for x in rows:
+        f, se = float(x["solid_fraction"]), float(x["standard_error"])
+        exact = CUBIC if x["state"] == "loose" else PAIRS
+        # (sampling: 4 standard errors; the lattice cut by the region's faces: 0.005)
+        if abs(f - exact) > 4 * se + 0.005:
+            failures.append(f"{x['state']} {x['region']}: solid fraction {f}, not {exact:.4f}")
+        if abs(se - math.sqrt(f * (1 - f) / 100000)) > 1e-5 or abs(float(x["bulk_density"]) - f * DENSITY) > 0.01:
+            failures.append(f"{x['state']} {x['region']}: standard error {se} or density {x['bulk_density']}")
+    if "| tap-good | tapped | 5.50 | unextended | whole | 31.75 |" not in r.stdout:
+        failures.append(f"the printed table:\n{r.stdout}")
+
+for name, kw, args, words in (
+        ("tap-interrupted", {"interrupted": True}, (), "has not finished"),
+        ("tap-no-frame", {"frame_times": (0.5, 4.0, 5.5)}, (), "no particle frame from the stage rest to tap"),
+        ("tap-unit", {"height": "40 furlongs"}, (), "height: cannot read '40 furlongs'"),
+        ("tap-wide", {}, ("--core", "40mm"), "the core (40 mm) or the margins (10 mm) do not fit")):
+    r = run(*args, make(name, **kw))
+    if r.returncode == 0 or words not in r.stderr + r.stdout:
+        failures.append(f"{name}: exit {r.returncode}, expected '{words}' in: {r.stderr}{r.stdout}")
+
+for f in failures:
+    print("FAIL:", f)
+print(f"tap packing check: {len(failures)} failed")
+sys.exit(1 if failures else 0)

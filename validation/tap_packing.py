@@ -1,0 +1,147 @@
+#!/usr/bin/env python3
+"""How much of the tapped-density cylinder the kernels fill, loose and tapped, in its core and
+across its whole width, from a finished run's frames (scenarios/tapped-density.yaml): whether
+the kernels' tapped packing in the core, away from the wall, is already that of random close
+packing, which equal spheres exceed only by ordering.
+
+usage: tap_packing.py [--core 20mm] [--margin 10mm] [--points 200000] [--csv OUT.csv] RUN...
+  RUN: a finished run's folder (summary.json, frames/particles.pvd with its .vtu files)
+
+For each state, the last particle frame of the stretch in which the cylinder, full, stands
+still: loose, from the stage rest (the poured heap settled) to the first tap (the strike at the
+rim and the top-up falling onto it leave the grain MARGIN below the rim as it was); tapped, from
+the stage tapped_rest to the tapped strike (the extension taken off). The cylinder's bottom is
+at z = 0 there, its axis the z axis (the scenario's). Two regions between MARGIN above the bottom and
+MARGIN below the rim: the core (radius CORE) and the whole cylinder (its radius, the parameter
+diameter / 2). The solid fraction of a region is the share of POINTS points, drawn uniformly
+in it with a fixed seed, that lie inside a kernel's element sphere (overlapping elements of one
+clump count once): the union of the spheres, whatever their shape or sizes. Its standard error
+is that of the sampling, sqrt(f (1 - f) / POINTS), not of the packing's own variation. The bulk
+density there is the fraction x the kernels' density (the parameter kernel_density), the
+packing ratio's measure.
+
+Prints a table and, with --csv, writes it (case, state, time [s], the frame's stage, region,
+radius [m], solid fraction, standard error, bulk density [kg/m3]).
+"""
+import argparse
+import csv
+import importlib.util
+import json
+import math
+import os
+import re
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+# bushel's frame reader (python/bushel/frames.py: numpy only), without the compiled module the
+# package needs.
+_spec = importlib.util.spec_from_file_location("bushel_frames", os.path.join(HERE, "..", "python", "bushel",
+                                                                              "frames.py"))
+frames = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(frames)
+
+UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "kg/m3": 1.0}
+STATES = (("loose", "rest", "tap"), ("tapped", "tapped_rest", "strike_tapped"))  # state, from, to (stages)
+NEIGHBOURS = 16  # element centres checked per point, enough while fewer lie within the largest radius
+
+
+def quantity(text, what):
+    """A length or density as the run or the command line gives it ('63.5 mm') in SI."""
+    m = re.fullmatch(r"\s*([0-9.eE+-]+)\s*([A-Za-z/0-9]+)\s*", str(text))
+    if not m or m.group(2) not in UNITS:
+        raise SystemExit(f"tap_packing.py: {what}: cannot read '{text}' (expected a number and one of "
+                         + ", ".join(UNITS) + ")")
+    return float(m.group(1)) * UNITS[m.group(2)]
+
+
+def solid_fraction(centres, radii, radius, z0, z1, points, seed=1):
+    """The share of POINTS points drawn uniformly in the cylinder r < RADIUS, z0 < z < z1 that
+    lie inside a sphere (centres [m], radii [m]), and its sampling standard error."""
+    rng = np.random.default_rng(seed)
+    r = radius * np.sqrt(rng.random(points))
+    phi = 2 * np.pi * rng.random(points)
+    q = np.column_stack((r * np.cos(phi), r * np.sin(phi), z0 + (z1 - z0) * rng.random(points)))
+    largest = float(radii.max())
+    k = min(NEIGHBOURS, len(radii))
+    dist, idx = cKDTree(centres).query(q, k=k, distance_upper_bound=largest)
+    dist, idx = dist.reshape(points, k), idx.reshape(points, k)
+    if k < len(radii) and np.isfinite(dist[:, -1]).any():
+        raise SystemExit(f"tap_packing.py: more than {k} element centres lie within {largest * 1e3:.3f} mm of "
+                         "a point; raise NEIGHBOURS")
+    found = np.isfinite(dist)  # (the neighbours beyond the largest radius come back as inf)
+    inside = np.zeros_like(found)
+    inside[found] = dist[found] < radii[idx[found]]
+    f = float(inside.any(axis=1).mean())
+    return f, math.sqrt(f * (1 - f) / points)
+
+
+def frame_in(run, stages, first, last):
+    """(time [s], path, stage) of the run's last particle frame from the start of the stage FIRST
+    to that of LAST (stages: the summary's records by name)."""
+    t0, t1 = stages[first]["start_s"], stages[last]["start_s"]
+    inside = [(t, p) for t, p in frames.read_pvd(os.path.join(run, "frames", "particles.pvd")) if t0 <= t < t1]
+    if not inside:
+        raise SystemExit(f"tap_packing.py: {run}: no particle frame from the stage {first} to {last} "
+                         f"({t0:.3f} to {t1:.3f} s); a smaller frame_interval writes one")
+    t, path = inside[-1]
+    return t, path, next(s for s in stages.values() if s["start_s"] <= t < s["end_s"])["name"]
+
+
+def measure(run, core, margin, points):
+    """The rows of one finished run: (state, time, stage, region, radius, fraction, error, density)."""
+    with open(os.path.join(run, "summary.json")) as f:
+        j = json.load(f)
+    if j.get("interrupted") or j.get("failed"):
+        raise SystemExit(f"tap_packing.py: {run} has not finished")
+    p = j["parameters"]
+    radius = quantity(p["diameter"], "diameter") / 2
+    height = quantity(p["height"], "height")
+    density = quantity(p["kernel_density"], "kernel_density")
+    if core >= radius or 2 * margin >= height:
+        raise SystemExit(f"tap_packing.py: {run}: the core ({core * 1e3:g} mm) or the margins ({margin * 1e3:g} mm) "
+                         f"do not fit the cylinder ({radius * 1e3:g} mm x {height * 1e3:g} mm)")
+    stages = {s["name"]: s for s in j["stages"]}
+    rows = []
+    for state, first, last in STATES:
+        t, path, stage = frame_in(run, stages, first, last)
+        frame = frames.read_vtu(path)
+        radii = np.asarray(frame.point_data["radius_m"], float)
+        for region, r in (("core", core), ("whole", radius)):
+            f, se = solid_fraction(frame.points, radii, r, margin, height - margin, points)
+            rows.append((state, t, stage, region, r, f, se, f * density))
+    return rows
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--core", default="20mm", help="the core's radius (default 20 mm)")
+    ap.add_argument("--margin", default="10mm", help="left out above the bottom and below the rim (default 10 mm)")
+    ap.add_argument("--points", type=int, default=200000, help="points drawn per region (default 200000)")
+    ap.add_argument("--csv", help="also write the table as CSV")
+    ap.add_argument("runs", nargs="+")
+    a = ap.parse_args()
+    if a.points < 100:
+        raise SystemExit(f"tap_packing.py: --points {a.points}: expected at least 100")
+    core, margin = quantity(a.core, "--core"), quantity(a.margin, "--margin")
+    print("| case | state | frame [s] | stage | region | radius [mm] | solid fraction | standard error (sampling) "
+          "| bulk density [kg/m3] |")
+    print("|---|" + "---|" * 8)
+    out = []
+    for run in a.runs:
+        case = os.path.basename(os.path.normpath(run))
+        for state, t, stage, region, r, f, se, rho in measure(run, core, margin, a.points):
+            print(f"| {case} | {state} | {t:.2f} | {stage} | {region} | {r * 1e3:.2f} | {f:.4f} | {se:.4f} "
+                  f"| {rho:.1f} |")
+            out.append([case, state, f"{t:.4f}", stage, region, f"{r:.5f}", f"{f:.5f}", f"{se:.5f}", f"{rho:.2f}"])
+    if a.csv:
+        with open(a.csv, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(["case", "state", "time", "stage", "region", "radius", "solid_fraction", "standard_error",
+                        "bulk_density"])
+            w.writerows(out)
+
+
+if __name__ == "__main__":
+    main()
