@@ -4,7 +4,7 @@ across its whole width, from a finished run's frames (scenarios/tapped-density.y
 the kernels' tapped packing in the core, away from the wall, is already that of random close
 packing, which equal spheres exceed only by ordering.
 
-usage: tap_packing.py [--core 20mm] [--margin 10mm] [--points 200000] [--csv OUT.csv] RUN...
+usage: tap_packing.py [--core 15mm,20mm] [--margin 10mm] [--points 200000] [--csv OUT.csv] RUN...
   RUN: a finished run's folder (summary.json, frames/particles.pvd with its .vtu files)
 
 For each state, the last particle frame of the stretch in which the cylinder, full, stands
@@ -12,8 +12,9 @@ still: loose, from the stage rest (the poured heap settled) to the first tap (th
 rim and the top-up falling onto it leave the grain MARGIN below the rim as it was); tapped, from
 the stage tapped_rest to the tapped strike (the extension taken off). The cylinder's bottom is
 at z = 0 there, its axis the z axis (the scenario's). Two regions between MARGIN above the bottom and
-MARGIN below the rim: the core (radius CORE) and the whole cylinder (its radius, the parameter
-diameter / 2). The solid fraction of a region is the share of POINTS points, drawn uniformly
+MARGIN below the rim: the core, of each radius in CORE, and the whole cylinder (its radius, the
+parameter diameter / 2). Against the wall the kernels lie in layers, so a core's fraction
+depends on its radius by about 0.005. The solid fraction of a region is the share of POINTS points, drawn uniformly
 in it with a fixed seed, that lie inside a kernel's element sphere (overlapping elements of one
 clump count once): the union of the spheres, whatever their shape or sizes. Its standard error
 is that of the sampling, sqrt(f (1 - f) / POINTS), not of the packing's own variation. The bulk
@@ -67,13 +68,16 @@ def solid_fraction(centres, radii, radius, z0, z1, points, seed=1):
     k = min(NEIGHBOURS, len(radii))
     dist, idx = cKDTree(centres).query(q, k=k, distance_upper_bound=largest)
     dist, idx = dist.reshape(points, k), idx.reshape(points, k)
-    if k < len(radii) and np.isfinite(dist[:, -1]).any():
-        raise SystemExit(f"tap_packing.py: more than {k} element centres lie within {largest * 1e3:.3f} mm of "
-                         "a point; raise NEIGHBOURS")
     found = np.isfinite(dist)  # (the neighbours beyond the largest radius come back as inf)
     inside = np.zeros_like(found)
     inside[found] = dist[found] < radii[idx[found]]
-    f = float(inside.any(axis=1).mean())
+    inside = inside.any(axis=1)
+    # A point outside its k nearest spheres whose k-th centre is within the largest radius may lie
+    # in a further one.
+    if k < len(radii) and (found[:, -1] & ~inside).any():
+        raise SystemExit(f"tap_packing.py: more than {k} element centres lie within {largest * 1e3:.3f} mm of "
+                         "a point; raise NEIGHBOURS")
+    f = float(inside.mean())
     return f, math.sqrt(f * (1 - f) / points)
 
 
@@ -81,15 +85,20 @@ def frame_in(run, stages, first, last):
     """(time [s], path, stage) of the run's last particle frame from the start of the stage FIRST
     to that of LAST (stages: the summary's records by name)."""
     t0, t1 = stages[first]["start_s"], stages[last]["start_s"]
-    inside = [(t, p) for t, p in frames.read_pvd(os.path.join(run, "frames", "particles.pvd")) if t0 <= t < t1]
+    pvd = os.path.join(run, "frames", "particles.pvd")
+    if not os.path.exists(pvd):
+        raise SystemExit(f"tap_packing.py: {run}: no frames ({pvd}); the run needs its particle frames")
+    inside = sorted((t, p) for t, p in frames.read_pvd(pvd) if t0 <= t < t1)
     if not inside:
         raise SystemExit(f"tap_packing.py: {run}: no particle frame from the stage {first} to {last} "
                          f"({t0:.3f} to {t1:.3f} s); a smaller frame_interval writes one")
     t, path = inside[-1]
-    return t, path, next(s for s in stages.values() if s["start_s"] <= t < s["end_s"])["name"]
+    if not os.path.exists(path):
+        raise SystemExit(f"tap_packing.py: {run}: the frame {path} that particles.pvd names is missing")
+    return t, path, next((s["name"] for s in stages.values() if s["start_s"] <= t < s["end_s"]), "?")
 
 
-def measure(run, core, margin, points):
+def measure(run, cores, margin, points):
     """The rows of one finished run: (state, time, stage, region, radius, fraction, error, density)."""
     with open(os.path.join(run, "summary.json")) as f:
         j = json.load(f)
@@ -99,16 +108,16 @@ def measure(run, core, margin, points):
     radius = quantity(p["diameter"], "diameter") / 2
     height = quantity(p["height"], "height")
     density = quantity(p["kernel_density"], "kernel_density")
-    if core >= radius or 2 * margin >= height:
-        raise SystemExit(f"tap_packing.py: {run}: the core ({core * 1e3:g} mm) or the margins ({margin * 1e3:g} mm) "
-                         f"do not fit the cylinder ({radius * 1e3:g} mm x {height * 1e3:g} mm)")
+    if max(cores) >= radius or 2 * margin >= height:
+        raise SystemExit(f"tap_packing.py: {run}: the core ({max(cores) * 1e3:g} mm) or the margins "
+                         f"({margin * 1e3:g} mm) do not fit the cylinder ({radius * 1e3:g} mm x {height * 1e3:g} mm)")
     stages = {s["name"]: s for s in j["stages"]}
     rows = []
     for state, first, last in STATES:
         t, path, stage = frame_in(run, stages, first, last)
         frame = frames.read_vtu(path)
         radii = np.asarray(frame.point_data["radius_m"], float)
-        for region, r in (("core", core), ("whole", radius)):
+        for region, r in [("core", c) for c in cores] + [("whole", radius)]:
             f, se = solid_fraction(frame.points, radii, r, margin, height - margin, points)
             rows.append((state, t, stage, region, r, f, se, f * density))
     return rows
@@ -116,7 +125,7 @@ def measure(run, core, margin, points):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--core", default="20mm", help="the core's radius (default 20 mm)")
+    ap.add_argument("--core", default="15mm,20mm", help="the cores' radii, by commas (default 15 mm, 20 mm)")
     ap.add_argument("--margin", default="10mm", help="left out above the bottom and below the rim (default 10 mm)")
     ap.add_argument("--points", type=int, default=200000, help="points drawn per region (default 200000)")
     ap.add_argument("--csv", help="also write the table as CSV")
@@ -124,14 +133,17 @@ def main():
     a = ap.parse_args()
     if a.points < 100:
         raise SystemExit(f"tap_packing.py: --points {a.points}: expected at least 100")
-    core, margin = quantity(a.core, "--core"), quantity(a.margin, "--margin")
+    cores, margin = [quantity(c, "--core") for c in a.core.split(",")], quantity(a.margin, "--margin")
+    if min(cores) <= 0 or margin < 0:
+        raise SystemExit(f"tap_packing.py: --core {a.core} --margin {a.margin}: expected radii above 0 and a "
+                         "margin of 0 or more")
     print("| case | state | frame [s] | stage | region | radius [mm] | solid fraction | standard error (sampling) "
           "| bulk density [kg/m3] |")
     print("|---|" + "---|" * 8)
     out = []
     for run in a.runs:
         case = os.path.basename(os.path.normpath(run))
-        for state, t, stage, region, r, f, se, rho in measure(run, core, margin, a.points):
+        for state, t, stage, region, r, f, se, rho in measure(run, cores, margin, a.points):
             print(f"| {case} | {state} | {t:.2f} | {stage} | {region} | {r * 1e3:.2f} | {f:.4f} | {se:.4f} "
                   f"| {rho:.1f} |")
             out.append([case, state, f"{t:.4f}", stage, region, f"{r:.5f}", f"{f:.5f}", f"{se:.5f}", f"{rho:.2f}"])

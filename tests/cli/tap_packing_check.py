@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """validation/tap_packing.py on made-up runs whose solid fraction is known: loose, a simple cubic
-lattice of equal spheres (pi / 6) up to a little above the region (so that the region's height
-counts); tapped, a lattice of overlapping pairs of a large and a small
-sphere (their union, by the lens formula: overlaps count once, and a point inside the large
-sphere nearer the small one's centre counts). Each state takes the last frame of its stretch
+lattice of equal spheres, each written twice (counted once), in one quadrant, wholly inside the
+core of 15 mm and the region's height, so that each region holds their whole volume; tapped, a lattice of
+overlapping pairs of a large and a small sphere filling the cylinder (their union, by the lens
+formula: overlaps count once, and a point inside the large sphere nearer the small one's centre
+counts). Each state takes the last frame of its stretch
 (loose: from the stage rest to the taps; tapped: from tapped_rest to the tapped strike);
 the bulk density is the fraction x the kernels' density; an unfinished run, a stage without a
 frame, a quantity without a unit and a core wider than the cylinder are refused with a message
@@ -35,20 +36,26 @@ def lens(R, r, d):
 
 
 PAIRS = (4 / 3 * math.pi * (BIG ** 3 + SMALL ** 3) - lens(BIG, SMALL, APART)) / CELL ** 3
-CUBIC = math.pi / 6
 
 
-TOP = HEIGHT - 7e-3  # the lattices' highest centres [m]: above the region's top (8 mm under the rim), not the rim
+TOP = HEIGHT - 7e-3  # the pairs' highest centres [m]: above the region's top (8 mm under the rim), not the rim
+MARGIN, CORE = 8e-3, 15e-3  # the command's margin and core [m]
+# The equal spheres: centres within CORE - A of the axis, in the layers 9, 11, ..., 31 mm, wholly
+# inside the region 8 to 32 mm (nothing else there): every region holds all their volume.
+LAYERS = np.arange(MARGIN + A, HEIGHT - MARGIN, 2 * A)
 
 
-def lattice(step, offsets):
+def lattice(step, offsets, within=RADIUS + 5e-3, layers=None, quadrant=False):
     """Sphere centres and radii: each (dx, radius) of OFFSETS at every point of a cubic lattice
-    of STEP that fills the cylinder up to TOP."""
+    of STEP with centres within WITHIN of the axis (with QUADRANT, only where x and y > 0), in
+    LAYERS (z [m]; default: up to TOP)."""
     n = int(RADIUS / step) + 2
     g = np.arange(-n, n + 1) * step
-    x, y, z = np.meshgrid(g, g, np.arange(0, int(TOP / step)) * step + step / 2, indexing="ij")
+    if layers is None:
+        layers = np.arange(0, int(TOP / step)) * step + step / 2
+    x, y, z = np.meshgrid(g, g, layers, indexing="ij")
     base = np.column_stack((x.ravel(), y.ravel(), z.ravel()))
-    base = base[np.hypot(base[:, 0], base[:, 1]) < RADIUS + step]
+    base = base[(np.hypot(base[:, 0], base[:, 1]) < within) & ((base[:, 0] > 0) & (base[:, 1] > 0) | (not quadrant))]
     points = np.vstack([base + [dx, 0, 0] for dx, _ in offsets])
     radii = np.concatenate([np.full(len(base), r) for _, r in offsets])
     return points, radii
@@ -76,9 +83,16 @@ STAGES = (("fill", 0.0), ("rest", 1.0), ("strike", 2.0), ("settle", 2.5), ("tap"
           ("unextended", 5.2), ("strike_tapped", 6.0), ("tapped", 6.5), (None, 7.5))  # name, start [s]
 
 
-def make(name, interrupted=False, frame_times=(0.5, 1.5, 2.8, 4.0, 5.5, 7.0), height=f"{HEIGHT * 1e3:g} mm"):
-    """A run with STAGES; the frames at 2.8 s (the lattice, in settle) and 5.5 s (the pairs, in
-    unextended) are the ones to read, the others hold one sphere far above."""
+LOOSE = lattice(2 * A, [(0.0, A), (0.0, A)], within=CORE - A, layers=LAYERS, quadrant=True)  # (each sphere twice)
+# (crowded: 20 spheres of 0.1 mm at one centre in the region, beside a sphere of A elsewhere)
+CROWD = (np.vstack([np.tile([0.0, 0.0, 0.02], (20, 1)), [[0.01, 0.0, 0.02]]]), np.array([1e-4] * 20 + [A]))
+
+
+def make(name, interrupted=False, frame_times=(0.5, 1.5, 2.8, 3.0, 4.0, 5.5, 6.0, 6.2, 7.0),
+         height=f"{HEIGHT * 1e3:g} mm", crowded=False):
+    """A run with STAGES; the frames at 2.8 s (the equal spheres, in settle) and 5.5 s (the
+    pairs, in unextended; or the crowd) are the ones to read, the others (3.0 s the taps' start,
+    6.0 and 6.2 s the tapped strike's) hold one sphere far above."""
     run = os.path.join(work, name)
     os.makedirs(os.path.join(run, "frames"))
     summary = {"interrupted": interrupted, "failed": None,
@@ -90,8 +104,7 @@ def make(name, interrupted=False, frame_times=(0.5, 1.5, 2.8, 4.0, 5.5, 7.0), he
     far = (np.array([[0.0, 0.0, 1.0]]), np.array([A]))  # (one sphere far above: the wrong frame reads 0)
     pvd = []
     for i, t in enumerate(frame_times):
-        points, radii = {2.8: lattice(2 * A, [(0.0, A)]),
-                         5.5: lattice(CELL, [(0.0, BIG), (APART, SMALL)])}.get(t, far)
+        points, radii = {2.8: LOOSE, 5.5: CROWD if crowded else lattice(CELL, [(0.0, BIG), (APART, SMALL)])}.get(t, far)
         vtu(os.path.join(run, "frames", f"particles_{i:05d}.vtu"), points, radii)
         pvd.append(f'<DataSet timestep="{t}" group="" part="0" file="particles_{i:05d}.vtu"/>')
     with open(os.path.join(run, "frames", "particles.pvd"), "w") as f:
@@ -106,21 +119,24 @@ def run(*args):
 
 good = make("tap-good")
 out_csv = os.path.join(work, "packing.csv")
-r = run("--points", "100000", "--core", "15 mm", "--margin", "8 mm", "--csv", out_csv, good)
+r = run("--points", "100000", "--core", "15 mm,20mm", "--margin", "8 mm", "--csv", out_csv, good)
 if r.returncode != 0:
     failures.append("a finished run: " + r.stderr)
 else:
     rows = list(csv.DictReader(open(out_csv)))
     got = [(x["state"], float(x["time"]), x["stage"], x["region"], float(x["radius"])) for x in rows]
-    want = [("loose", 2.8, "settle", "core", 0.015), ("loose", 2.8, "settle", "whole", RADIUS),
-            ("tapped", 5.5, "unextended", "core", 0.015), ("tapped", 5.5, "unextended", "whole", RADIUS)]
+    want = [(state, t, stage, region, radius) for state, t, stage in (("loose", 2.8, "settle"),
+                                                                     ("tapped", 5.5, "unextended"))
+            for region, radius in (("core", CORE), ("core", 0.020), ("whole", RADIUS))]
     if got != want:
         failures.append(f"the rows' states, frames, regions: {got}, not {want}")
+    volume = len(LOOSE[1]) / 2 * 4 / 3 * math.pi * A ** 3  # (the equal spheres', once each)
     for x in rows:
         f, se = float(x["solid_fraction"]), float(x["standard_error"])
-        exact = CUBIC if x["state"] == "loose" else PAIRS
-        # (sampling: 4 standard errors; the lattice cut by the region's faces: 0.005)
-        if abs(f - exact) > 4 * se + 0.005:
+        region = math.pi * float(x["radius"]) ** 2 * (HEIGHT - 2 * MARGIN)
+        # (sampling: 4 standard errors; the pairs' lattice cut by the region's faces: 0.005)
+        exact, cut = (volume / region, 0.0) if x["state"] == "loose" else (PAIRS, 0.005)
+        if abs(f - exact) > 4 * se + cut:
             failures.append(f"{x['state']} {x['region']}: solid fraction {f}, not {exact:.4f}")
         if abs(se - math.sqrt(f * (1 - f) / 100000)) > 1e-5 or abs(float(x["bulk_density"]) - f * DENSITY) > 0.01:
             failures.append(f"{x['state']} {x['region']}: standard error {se} or density {x['bulk_density']}")
@@ -129,12 +145,21 @@ else:
 
 for name, kw, args, words in (
         ("tap-interrupted", {"interrupted": True}, (), "has not finished"),
-        ("tap-no-frame", {"frame_times": (0.5, 4.0, 5.5)}, (), "no particle frame from the stage rest to tap"),
+        ("tap-no-frame", {"frame_times": (0.5, 3.0, 4.0, 5.5)}, (), "no particle frame from the stage rest to tap"),
+        ("tap-no-tapped-frame", {"frame_times": (2.8, 4.0, 6.0, 6.2)}, (),
+         "no particle frame from the stage tapped_rest to strike_tapped"),
+        ("tap-crowd", {"crowded": True}, (), "more than 16 element centres lie within 1.000 mm of a point"),
+        ("tap-negative", {}, ("--margin=-1mm",), "expected radii above 0 and a margin of 0 or more"),
         ("tap-unit", {"height": "40 furlongs"}, (), "height: cannot read '40 furlongs'"),
         ("tap-wide", {}, ("--core", "40mm"), "the core (40 mm) or the margins (10 mm) do not fit")):
     r = run(*args, make(name, **kw))
     if r.returncode == 0 or words not in r.stderr + r.stdout:
         failures.append(f"{name}: exit {r.returncode}, expected '{words}' in: {r.stderr}{r.stdout}")
+bare = make("tap-no-frames")
+shutil.rmtree(os.path.join(bare, "frames"))
+r = run(bare)
+if r.returncode == 0 or "no frames" not in r.stderr or "Traceback" in r.stderr:
+    failures.append(f"a run without frames: exit {r.returncode}, {r.stderr}")
 
 for f in failures:
     print("FAIL:", f)
