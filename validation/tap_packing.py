@@ -8,10 +8,12 @@ usage: tap_packing.py [--core 15mm,20mm] [--margin 10mm] [--points 200000] [--cs
   RUN: a finished run's folder (summary.json, frames/particles.pvd with its .vtu files)
 
 For each state, the last particle frame of the stretch in which the cylinder, full, stands
-still: loose, from the stage rest (the poured heap settled) to the first tap (the strike at the
-rim and the top-up falling onto it leave the grain MARGIN below the rim as it was); tapped, from
-the stage tapped_rest to the tapped strike (the extension taken off). The cylinder's bottom is
-at z = 0 there, its axis the z axis (the scenario's). Two regions between MARGIN above the bottom and
+still: loose, from the stage rest (the poured heap settled) to the first tap; tapped, from the
+stage tapped_rest to the run's end, whose last frame bushel writes (the extension taken off and
+the tapped grain struck). The strikes at the rim and the top-up falling onto the loose grain leave
+it as it was MARGIN below the rim (at full size the tapped core reads the same within 0.0005
+before and after the strike). The cylinder's bottom is at z = 0 there, its axis the z axis (the
+scenario's). Two regions between MARGIN above the bottom and
 MARGIN below the rim: the core, of each radius in CORE, and the whole cylinder (its radius, the
 parameter diameter / 2). Against the wall the kernels lie in layers, so a core's fraction
 depends on its radius by about 0.005. The solid fraction of a region is the share of POINTS points, drawn uniformly
@@ -44,7 +46,7 @@ frames = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(frames)
 
 UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "kg/m3": 1.0}
-STATES = (("loose", "rest", "tap"), ("tapped", "tapped_rest", "strike_tapped"))  # state, from, to (stages)
+STATES = (("loose", "rest", "tap"), ("tapped", "tapped_rest", None))  # state, from, to (stages; None: the end)
 NEIGHBOURS = 16  # element centres checked per point, enough while fewer lie within the largest radius
 
 
@@ -83,19 +85,23 @@ def solid_fraction(centres, radii, radius, z0, z1, points, seed=1):
 
 def frame_in(run, stages, first, last):
     """(time [s], path, stage) of the run's last particle frame from the start of the stage FIRST
-    to that of LAST (stages: the summary's records by name)."""
-    t0, t1 = stages[first]["start_s"], stages[last]["start_s"]
+    to that of LAST, or to the run's end with it (LAST None; stages: the summary's records by name,
+    in order)."""
+    end = max(s["end_s"] for s in stages.values())
+    t0, t1 = stages[first]["start_s"], stages[last]["start_s"] if last else math.nextafter(end, math.inf)
     pvd = os.path.join(run, "frames", "particles.pvd")
     if not os.path.exists(pvd):
         raise SystemExit(f"tap_packing.py: {run}: no frames ({pvd}); the run needs its particle frames")
     inside = sorted((t, p) for t, p in frames.read_pvd(pvd) if t0 <= t < t1)
     if not inside:
-        raise SystemExit(f"tap_packing.py: {run}: no particle frame from the stage {first} to {last} "
+        raise SystemExit(f"tap_packing.py: {run}: no particle frame from the stage {first} to "
+                         f"{last or 'the end'} "
                          f"({t0:.3f} to {t1:.3f} s); a smaller frame_interval writes one")
     t, path = inside[-1]
     if not os.path.exists(path):
         raise SystemExit(f"tap_packing.py: {run}: the frame {path} that particles.pvd names is missing")
-    return t, path, next((s["name"] for s in stages.values() if s["start_s"] <= t < s["end_s"]), "?")
+    stage = (s["name"] for s in stages.values() if s["start_s"] <= t < s["end_s"] or t == s["end_s"] == end)
+    return t, path, next(stage, "?")
 
 
 def measure(run, cores, margin, points):

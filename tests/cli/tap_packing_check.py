@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
 """validation/tap_packing.py on made-up runs whose solid fraction is known: loose, a simple cubic
 lattice of equal spheres, each written twice (counted once), in one quadrant, wholly inside the
-core of 15 mm and the region's height, so that each region holds their whole volume; tapped, a lattice of
-overlapping pairs of a large and a small sphere filling the cylinder (their union, by the lens
-formula: overlaps count once, and a point inside the large sphere nearer the small one's centre
-counts). Each state takes the last frame of its stretch
-(loose: from the stage rest to the taps; tapped: from tapped_rest to the tapped strike);
-the bulk density is the fraction x the kernels' density; an unfinished run, a stage without a
-frame, a quantity without a unit and a core wider than the cylinder are refused with a message
-that names them.
+core of 15 mm and the region's height, so that each region holds their whole volume; tapped, a
+lattice of overlapping pairs of a large and a small sphere filling the cylinder (their union,
+by the lens formula: overlaps count once, and a point inside the large sphere nearer the small
+one's centre counts). Each state takes the last frame of its stretch (loose: from the stage
+rest to the taps; tapped: from tapped_rest to the run's end, inclusive); the bulk density is
+the fraction x the kernels' density; an unfinished run, a stretch without a frame, a run
+without frames, a quantity without a unit, a negative margin, a core wider than the cylinder
+and more element centres near a point than it checks are refused with a message that names
+them.
 
 usage: tap_packing_check.py TAP_PACKING_PY WORKDIR
 """
@@ -88,11 +89,11 @@ LOOSE = lattice(2 * A, [(0.0, A), (0.0, A)], within=CORE - A, layers=LAYERS, qua
 CROWD = (np.vstack([np.tile([0.0, 0.0, 0.02], (20, 1)), [[0.01, 0.0, 0.02]]]), np.array([1e-4] * 20 + [A]))
 
 
-def make(name, interrupted=False, frame_times=(0.5, 1.5, 2.8, 3.0, 4.0, 5.5, 6.0, 6.2, 7.0),
+def make(name, interrupted=False, frame_times=(0.5, 1.5, 2.8, 3.0, 4.0, 5.5, 7.5, 9.0),
          height=f"{HEIGHT * 1e3:g} mm", crowded=False):
-    """A run with STAGES; the frames at 2.8 s (the equal spheres, in settle) and 5.5 s (the
-    pairs, in unextended; or the crowd) are the ones to read, the others (3.0 s the taps' start,
-    6.0 and 6.2 s the tapped strike's) hold one sphere far above."""
+    """A run with STAGES; the frames at 2.8 s (the equal spheres, in settle) and 7.5 s (the
+    pairs, at the run's end; or the crowd) are the ones to read, the others (3.0 s the taps'
+    start, 5.5 s in unextended, 9.0 s past the end) hold one sphere far above."""
     run = os.path.join(work, name)
     os.makedirs(os.path.join(run, "frames"))
     summary = {"interrupted": interrupted, "failed": None,
@@ -104,7 +105,7 @@ def make(name, interrupted=False, frame_times=(0.5, 1.5, 2.8, 3.0, 4.0, 5.5, 6.0
     far = (np.array([[0.0, 0.0, 1.0]]), np.array([A]))  # (one sphere far above: the wrong frame reads 0)
     pvd = []
     for i, t in enumerate(frame_times):
-        points, radii = {2.8: LOOSE, 5.5: CROWD if crowded else lattice(CELL, [(0.0, BIG), (APART, SMALL)])}.get(t, far)
+        points, radii = {2.8: LOOSE, 7.5: CROWD if crowded else lattice(CELL, [(0.0, BIG), (APART, SMALL)])}.get(t, far)
         vtu(os.path.join(run, "frames", f"particles_{i:05d}.vtu"), points, radii)
         pvd.append(f'<DataSet timestep="{t}" group="" part="0" file="particles_{i:05d}.vtu"/>')
     with open(os.path.join(run, "frames", "particles.pvd"), "w") as f:
@@ -126,7 +127,7 @@ else:
     rows = list(csv.DictReader(open(out_csv)))
     got = [(x["state"], float(x["time"]), x["stage"], x["region"], float(x["radius"])) for x in rows]
     want = [(state, t, stage, region, radius) for state, t, stage in (("loose", 2.8, "settle"),
-                                                                     ("tapped", 5.5, "unextended"))
+                                                                     ("tapped", 7.5, "tapped"))
             for region, radius in (("core", CORE), ("core", 0.020), ("whole", RADIUS))]
     if got != want:
         failures.append(f"the rows' states, frames, regions: {got}, not {want}")
@@ -140,14 +141,14 @@ else:
             failures.append(f"{x['state']} {x['region']}: solid fraction {f}, not {exact:.4f}")
         if abs(se - math.sqrt(f * (1 - f) / 100000)) > 1e-5 or abs(float(x["bulk_density"]) - f * DENSITY) > 0.01:
             failures.append(f"{x['state']} {x['region']}: standard error {se} or density {x['bulk_density']}")
-    if "| tap-good | tapped | 5.50 | unextended | whole | 31.75 |" not in r.stdout:
+    if "| tap-good | tapped | 7.50 | tapped | whole | 31.75 |" not in r.stdout:
         failures.append(f"the printed table:\n{r.stdout}")
 
 for name, kw, args, words in (
         ("tap-interrupted", {"interrupted": True}, (), "has not finished"),
-        ("tap-no-frame", {"frame_times": (0.5, 3.0, 4.0, 5.5)}, (), "no particle frame from the stage rest to tap"),
-        ("tap-no-tapped-frame", {"frame_times": (2.8, 4.0, 6.0, 6.2)}, (),
-         "no particle frame from the stage tapped_rest to strike_tapped"),
+        ("tap-no-frame", {"frame_times": (0.5, 3.0, 4.0, 7.5)}, (), "no particle frame from the stage rest to tap"),
+        ("tap-no-tapped-frame", {"frame_times": (2.8, 4.0, 9.0)}, (),
+         "no particle frame from the stage tapped_rest to the end"),
         ("tap-crowd", {"crowded": True}, (), "more than 16 element centres lie within 1.000 mm of a point"),
         ("tap-negative", {}, ("--margin=-1mm",), "expected radii above 0 and a margin of 0 or more"),
         ("tap-unit", {"height": "40 furlongs"}, (), "height: cannot read '40 furlongs'"),
