@@ -159,16 +159,21 @@ finished() { run_finished "$kept/$1"; }
 park() { park_unfinished "$runs" "$kept" "${all[@]}"; }
 
 # The finished tapped cases' density tap by tap and kinetic energy through a tap's period
-# (validation/tap_series.py, into validation/results/tap-series.csv and tap-phases.csv), from the
-# run folders this checkout has, one case at a time (one that fails leaves the others); the rows
-# of cases whose folders are gone stay.
+# (validation/tap_series.py, into validation/results/tap-series.csv and tap-phases.csv), and the
+# full-size ones' solid fraction in the cylinder's core and across it (validation/tap_packing.py,
+# into tap-packing.csv), from the run folders this checkout has, one case at a time (one that
+# fails leaves the others); the rows of cases whose folders are gone stay.
 tap_series() {
-  local c
+  local c results="$root/validation/results"
   for c in "${all[@]}"; do
     if [[ "$c" == tap-* ]] && run_finished "$runs/$c" && [ -f "$runs/$c/timeseries.csv" ]; then
-      /usr/bin/python3 "$root/validation/tap_series.py" --update --csv "$root/validation/results/tap-series.csv" \
-        --phases "$root/validation/results/tap-phases.csv" "$runs/$c" > /dev/null ||
+      /usr/bin/python3 "$root/validation/tap_series.py" --update --csv "$results/tap-series.csv" \
+        --phases "$results/tap-phases.csv" "$runs/$c" > /dev/null ||
         echo "run-study.sh: validation/tap_series.py failed on $c (above); the table goes on without it" >&2
+      if [[ "$c" =~ ^tap-(large|medium|small)-[0-9]+s(-[0-9.]+hz)?$ ]]; then
+        /usr/bin/python3 "$root/validation/tap_packing.py" --update --csv "$results/tap-packing.csv" "$runs/$c" \
+          > /dev/null || echo "run-study.sh: validation/tap_packing.py failed on $c (above); the table goes on" >&2
+      fi
     fi
   done
 }

@@ -4,7 +4,7 @@ across its whole width, from a finished run's frames (scenarios/tapped-density.y
 the kernels' tapped packing in the core, away from the wall, is already that of random close
 packing, which equal spheres exceed only by ordering.
 
-usage: tap_packing.py [--core 15mm,20mm] [--margin 10mm] [--points 200000] [--csv OUT.csv] RUN...
+usage: tap_packing.py [--core 15mm,20mm] [--margin 10mm] [--points 200000] [--csv OUT.csv [--update]] RUN...
   RUN: a finished run's folder (summary.json, frames/particles.pvd with its .vtu files)
 
 For each state, the last particle frame of the stretch in which the cylinder, full, stands
@@ -24,20 +24,23 @@ density there is the fraction x the kernels' density (the parameter kernel_densi
 packing ratio's measure.
 
 Prints a table and, with --csv, writes it (case, state, time [s], the frame's stage, region,
-radius [m], solid fraction, standard error, bulk density [kg/m3]).
+radius [m], solid fraction, standard error, bulk density [kg/m3]); with --update, the rows of the
+cases not given stay, in their places, as tap_series.py --update keeps them.
 """
 import argparse
-import csv
 import importlib.util
 import json
 import math
 import os
 import re
+import sys
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from tap_series import write_rows  # noqa: E402
 # bushel's frame reader (python/bushel/frames.py: numpy only), without the compiled module the
 # package needs.
 _spec = importlib.util.spec_from_file_location("bushel_frames", os.path.join(HERE, "..", "python", "bushel",
@@ -135,6 +138,7 @@ def main():
     ap.add_argument("--margin", default="10mm", help="left out above the bottom and below the rim (default 10 mm)")
     ap.add_argument("--points", type=int, default=200000, help="points drawn per region (default 200000)")
     ap.add_argument("--csv", help="also write the table as CSV")
+    ap.add_argument("--update", action="store_true", help="with --csv: keep the rows of the cases not given")
     ap.add_argument("runs", nargs="+")
     a = ap.parse_args()
     if a.points < 100:
@@ -146,19 +150,17 @@ def main():
     print("| case | state | frame [s] | stage | region | radius [mm] | solid fraction | standard error (sampling) "
           "| bulk density [kg/m3] |")
     print("|---|" + "---|" * 8)
-    out = []
+    out = {}  # case -> its CSV rows
     for run in a.runs:
         case = os.path.basename(os.path.normpath(run))
         for state, t, stage, region, r, f, se, rho in measure(run, cores, margin, a.points):
             print(f"| {case} | {state} | {t:.2f} | {stage} | {region} | {r * 1e3:.2f} | {f:.4f} | {se:.4f} "
                   f"| {rho:.1f} |")
-            out.append([case, state, f"{t:.4f}", stage, region, f"{r:.5f}", f"{f:.5f}", f"{se:.5f}", f"{rho:.2f}"])
+            out.setdefault(case, []).append([case, state, f"{t:.4f}", stage, region, f"{r:.5f}", f"{f:.5f}",
+                                             f"{se:.5f}", f"{rho:.2f}"])
     if a.csv:
-        with open(a.csv, "w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(["case", "state", "time", "stage", "region", "radius", "solid_fraction", "standard_error",
-                        "bulk_density"])
-            w.writerows(out)
+        write_rows(a.csv, ["case", "state", "time", "stage", "region", "radius", "solid_fraction", "standard_error",
+                           "bulk_density"], out, a.update)
 
 
 if __name__ == "__main__":

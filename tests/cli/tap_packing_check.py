@@ -144,6 +144,17 @@ else:
     if "| tap-good | tapped | 7.50 | tapped | whole | 31.75 |" not in r.stdout:
         failures.append(f"the printed table:\n{r.stdout}")
 
+# --update: the other cases' rows stay in their places; without it only the cases given.
+other = make("tap-other")
+r1 = run("--points", "1000", "--csv", out_csv, "--update", other)
+r2 = run("--points", "1000", "--csv", out_csv, "--update", good)
+cases = [x["case"] for x in csv.DictReader(open(out_csv))]
+if r1.returncode or r2.returncode or cases != ["tap-good"] * 6 + ["tap-other"] * 6:
+    failures.append(f"--update: cases {cases}, {r1.stderr}{r2.stderr}")
+run("--points", "1000", "--csv", out_csv, other)
+if {x["case"] for x in csv.DictReader(open(out_csv))} != {"tap-other"}:
+    failures.append("without --update only the cases given")
+
 for name, kw, args, words in (
         ("tap-interrupted", {"interrupted": True}, (), "has not finished"),
         ("tap-no-frame", {"frame_times": (0.5, 3.0, 4.0, 7.5)}, (), "no particle frame from the stage rest to tap"),
