@@ -16,7 +16,7 @@ before and after the strike). The cylinder's bottom is at z = 0 there, its axis 
 scenario's). Two regions between MARGIN above the bottom and
 MARGIN below the rim: the core, of each radius in CORE, and the whole cylinder (its radius, the
 parameter diameter / 2). Against the wall the kernels lie in layers, so a core's fraction
-depends on its radius by about 0.005. The solid fraction of a region is the share of POINTS points, drawn uniformly
+depends on its radius, by up to 0.008. The solid fraction of a region is the share of POINTS points, drawn uniformly
 in it with a fixed seed, that lie inside a kernel's element sphere (overlapping elements of one
 clump count once): the union of the spheres, whatever their shape or sizes. Its standard error
 is that of the sampling, sqrt(f (1 - f) / POINTS), not of the packing's own variation. The bulk
@@ -51,6 +51,7 @@ _spec.loader.exec_module(frames)
 UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "kg/m3": 1.0}
 STATES = (("loose", "rest", "tap"), ("tapped", "tapped_rest", None))  # state, from, to (stages; None: the end)
 NEIGHBOURS = 16  # element centres checked per point, enough while fewer lie within the largest radius
+END_SLACK = 1e-6  # [s] the last frame's time may pass the run's recorded end by rounding
 
 
 def quantity(text, what):
@@ -91,7 +92,7 @@ def frame_in(run, stages, first, last):
     to that of LAST, or to the run's end with it (LAST None; stages: the summary's records by name,
     in order)."""
     end = max(s["end_s"] for s in stages.values())
-    t0, t1 = stages[first]["start_s"], stages[last]["start_s"] if last else math.nextafter(end, math.inf)
+    t0, t1 = stages[first]["start_s"], stages[last]["start_s"] if last else end + END_SLACK
     pvd = os.path.join(run, "frames", "particles.pvd")
     if not os.path.exists(pvd):
         raise SystemExit(f"tap_packing.py: {run}: no frames ({pvd}); the run needs its particle frames")
@@ -103,7 +104,7 @@ def frame_in(run, stages, first, last):
     t, path = inside[-1]
     if not os.path.exists(path):
         raise SystemExit(f"tap_packing.py: {run}: the frame {path} that particles.pvd names is missing")
-    stage = (s["name"] for s in stages.values() if s["start_s"] <= t < s["end_s"] or t == s["end_s"] == end)
+    stage = (s["name"] for s in stages.values() if s["start_s"] <= t < s["end_s"] or t >= s["end_s"] == end)
     return t, path, next(stage, "?")
 
 
@@ -141,6 +142,8 @@ def main():
     ap.add_argument("--update", action="store_true", help="with --csv: keep the rows of the cases not given")
     ap.add_argument("runs", nargs="+")
     a = ap.parse_args()
+    if a.update and not a.csv:
+        ap.error("--update needs --csv")
     if a.points < 100:
         raise SystemExit(f"tap_packing.py: --points {a.points}: expected at least 100")
     cores, margin = [quantity(c, "--core") for c in a.core.split(",")], quantity(a.margin, "--margin")

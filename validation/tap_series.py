@@ -44,6 +44,7 @@ import json
 import math
 import os
 import re
+import sys
 from statistics import mean, median, stdev
 
 UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "Hz": 1.0}
@@ -135,7 +136,8 @@ def write_rows(path, header, rows, update):
         with open(path, newline="") as f:
             old = csv.reader(f)
             if next(old, None) != header:
-                raise SystemExit(f"tap_series.py: {path} does not start with the header {','.join(header)}")
+                raise SystemExit(f"{os.path.basename(sys.argv[0])}: {path} does not start with the header "
+                                 f"{','.join(header)}")
             for r in old:
                 cases.setdefault(r[0], []).append(r)
     cases.update(rows)

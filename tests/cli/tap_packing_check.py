@@ -89,11 +89,15 @@ LOOSE = lattice(2 * A, [(0.0, A), (0.0, A)], within=CORE - A, layers=LAYERS, qua
 CROWD = (np.vstack([np.tile([0.0, 0.0, 0.02], (20, 1)), [[0.01, 0.0, 0.02]]]), np.array([1e-4] * 20 + [A]))
 
 
-def make(name, interrupted=False, frame_times=(0.5, 1.5, 2.8, 3.0, 4.0, 5.5, 7.5, 9.0),
-         height=f"{HEIGHT * 1e3:g} mm", crowded=False):
-    """A run with STAGES; the frames at 2.8 s (the equal spheres, in settle) and 7.5 s (the
-    pairs, at the run's end; or the crowd) are the ones to read, the others (3.0 s the taps'
-    start, 5.5 s in unextended, 9.0 s past the end) hold one sphere far above."""
+END = 7.5 + 5e-7  # the last frame's time: past the run's recorded end by rounding
+
+
+def make(name, interrupted=False, frame_times=(0.5, 1.5, 2.8, 3.0, 4.0, 5.5, END, 7.501, 9.0),
+         height=f"{HEIGHT * 1e3:g} mm", crowded=False, loose_at=2.8):
+    """A run with STAGES; the frames at LOOSE_AT (the equal spheres, in settle) and END (the
+    pairs, the run's last; or the crowd) are the ones to read, the others (3.0 s the taps' start,
+    5.5 s in unextended, 7.501 and 9.0 s past the end) hold one sphere far above. particles.pvd
+    lists them from the last to the first."""
     run = os.path.join(work, name)
     os.makedirs(os.path.join(run, "frames"))
     summary = {"interrupted": interrupted, "failed": None,
@@ -105,12 +109,12 @@ def make(name, interrupted=False, frame_times=(0.5, 1.5, 2.8, 3.0, 4.0, 5.5, 7.5
     far = (np.array([[0.0, 0.0, 1.0]]), np.array([A]))  # (one sphere far above: the wrong frame reads 0)
     pvd = []
     for i, t in enumerate(frame_times):
-        points, radii = {2.8: LOOSE, 7.5: CROWD if crowded else lattice(CELL, [(0.0, BIG), (APART, SMALL)])}.get(t, far)
+        points, radii = {loose_at: LOOSE, END: CROWD if crowded else lattice(CELL, [(0.0, BIG), (APART, SMALL)])}.get(t, far)
         vtu(os.path.join(run, "frames", f"particles_{i:05d}.vtu"), points, radii)
         pvd.append(f'<DataSet timestep="{t}" group="" part="0" file="particles_{i:05d}.vtu"/>')
     with open(os.path.join(run, "frames", "particles.pvd"), "w") as f:
         f.write('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1"><Collection>'
-                + "".join(pvd) + "</Collection></VTKFile>\n")
+                + "".join(reversed(pvd)) + "</Collection></VTKFile>\n")
     return run
 
 
@@ -127,7 +131,7 @@ else:
     rows = list(csv.DictReader(open(out_csv)))
     got = [(x["state"], float(x["time"]), x["stage"], x["region"], float(x["radius"])) for x in rows]
     want = [(state, t, stage, region, radius) for state, t, stage in (("loose", 2.8, "settle"),
-                                                                     ("tapped", 7.5, "tapped"))
+                                                                     ("tapped", round(END, 4), "tapped"))
             for region, radius in (("core", CORE), ("core", 0.020), ("whole", RADIUS))]
     if got != want:
         failures.append(f"the rows' states, frames, regions: {got}, not {want}")
@@ -147,10 +151,26 @@ else:
 # --update: the other cases' rows stay in their places; without it only the cases given.
 other = make("tap-other")
 r1 = run("--points", "1000", "--csv", out_csv, "--update", other)
+kept = [x for x in csv.DictReader(open(out_csv)) if x["case"] == "tap-other"]
 r2 = run("--points", "1000", "--csv", out_csv, "--update", good)
 cases = [x["case"] for x in csv.DictReader(open(out_csv))]
-if r1.returncode or r2.returncode or cases != ["tap-good"] * 6 + ["tap-other"] * 6:
+if r1.returncode or r2.returncode or cases != ["tap-good"] * 6 + ["tap-other"] * 6 \
+        or [x for x in csv.DictReader(open(out_csv)) if x["case"] == "tap-other"] != kept:
     failures.append(f"--update: cases {cases}, {r1.stderr}{r2.stderr}")
+if [f for f in os.listdir(work) if f.endswith(".tmp")]:
+    failures.append("a temporary file left behind")
+open(out_csv, "w").write("case,when\n")
+r = run("--points", "1000", "--csv", out_csv, "--update", good)
+if r.returncode == 0 or f"{os.path.basename(script)}: " not in r.stderr \
+        or "does not start with the header case,state" not in r.stderr:
+    failures.append(f"--update onto a file of another header: exit {r.returncode}, {r.stderr}")
+r = run("--update", good)
+if r.returncode == 0 or "--update needs --csv" not in r.stderr:
+    failures.append(f"--update without --csv: exit {r.returncode}, {r.stderr}")
+# A frame on a stage's start belongs to that stage (loose at 2.5 s: settle, not strike).
+r = run("--points", "1000", make("tap-boundary", frame_times=(2.5, END), loose_at=2.5))
+if "| tap-boundary | loose | 2.50 | settle | core |" not in r.stdout:
+    failures.append(f"a frame on a stage's start: {r.stdout}{r.stderr}")
 run("--points", "1000", "--csv", out_csv, other)
 if {x["case"] for x in csv.DictReader(open(out_csv))} != {"tap-other"}:
     failures.append("without --update only the cases given")
