@@ -109,7 +109,8 @@ def make(name, interrupted=False, frame_times=(0.5, 1.5, 2.8, 3.0, 4.0, 5.5, END
     far = (np.array([[0.0, 0.0, 1.0]]), np.array([A]))  # (one sphere far above: the wrong frame reads 0)
     pvd = []
     for i, t in enumerate(frame_times):
-        points, radii = {loose_at: LOOSE, END: CROWD if crowded else lattice(CELL, [(0.0, BIG), (APART, SMALL)])}.get(t, far)
+        pairs = CROWD if crowded else lattice(CELL, [(0.0, BIG), (APART, SMALL)])
+        points, radii = {loose_at: LOOSE, END: pairs}.get(t, far)
         vtu(os.path.join(run, "frames", f"particles_{i:05d}.vtu"), points, radii)
         pvd.append(f'<DataSet timestep="{t}" group="" part="0" file="particles_{i:05d}.vtu"/>')
     with open(os.path.join(run, "frames", "particles.pvd"), "w") as f:
