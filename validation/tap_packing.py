@@ -32,7 +32,6 @@ import importlib.util
 import json
 import math
 import os
-import re
 import sys
 
 import numpy as np
@@ -40,7 +39,7 @@ from scipy.spatial import cKDTree
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from tap_series import write_rows  # noqa: E402
+from tap_series import quantity, write_rows  # noqa: E402
 # bushel's frame reader (python/bushel/frames.py: numpy only), without the compiled module the
 # package needs.
 _spec = importlib.util.spec_from_file_location("bushel_frames", os.path.join(HERE, "..", "python", "bushel",
@@ -48,19 +47,9 @@ _spec = importlib.util.spec_from_file_location("bushel_frames", os.path.join(HER
 frames = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(frames)
 
-UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "kg/m3": 1.0}
 STATES = (("loose", "rest", "tap"), ("tapped", "tapped_rest", None))  # state, from, to (stages; None: the end)
 NEIGHBOURS = 16  # element centres checked per point, enough while fewer lie within the largest radius
 END_SLACK = 1e-6  # [s] the last frame's time may pass the run's recorded end by rounding
-
-
-def quantity(text, what):
-    """A length or density as the run or the command line gives it ('63.5 mm') in SI."""
-    m = re.fullmatch(r"\s*([0-9.eE+-]+)\s*([A-Za-z/0-9]+)\s*", str(text))
-    if not m or m.group(2) not in UNITS:
-        raise SystemExit(f"tap_packing.py: {what}: cannot read '{text}' (expected a number and one of "
-                         + ", ".join(UNITS) + ")")
-    return float(m.group(1)) * UNITS[m.group(2)]
 
 
 def solid_fraction(centres, radii, radius, z0, z1, points, seed=1):

@@ -47,15 +47,16 @@ import re
 import sys
 from statistics import mean, median, stdev
 
-UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "Hz": 1.0}
+UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "Hz": 1.0, "kg/m3": 1.0}
 
 
-def quantity(text):
-    """A parameter's text as the run took it ('30mm', '8.66 Hz') in SI."""
-    m = re.fullmatch(r"\s*([0-9.eE+-]+)\s*([A-Za-z]+)\s*", str(text))
+def quantity(text, what):
+    """A parameter's or option's text ('30mm', '8.66 Hz', '1373 kg/m3') in SI; WHAT names it in
+    the refusal."""
+    m = re.fullmatch(r"\s*([0-9.eE+-]+)\s*([A-Za-z/0-9]+)\s*", str(text))
     if not m or m.group(2) not in UNITS:
-        raise SystemExit(f"tap_series.py: cannot read the quantity '{text}' (expected a number and one of "
-                         + ", ".join(UNITS) + ")")
+        raise SystemExit(f"{os.path.basename(sys.argv[0])}: {what}: cannot read the quantity '{text}' (expected a "
+                         "number and one of " + ", ".join(UNITS) + ")")
     return float(m.group(1)) * UNITS[m.group(2)]
 
 
@@ -70,7 +71,7 @@ def tap_stage(run):
     start = next(s["start_s"] for s in j["stages"] if s["name"] == "tap")
     with open(os.path.join(run, "timeseries.csv")) as f:
         rows = [r for r in csv.DictReader(l for l in f if not l.startswith("#")) if r["stage"] == "tap"]
-    return quantity(p["tap_frequency"]), quantity(p["height"]), int(p["taps"]), start, rows
+    return quantity(p["tap_frequency"], "tap_frequency"), quantity(p["height"], "height"), int(p["taps"]), start, rows
 
 
 def taps(run, stage):

@@ -85,6 +85,7 @@ STAGES = (("fill", 0.0), ("rest", 1.0), ("strike", 2.0), ("settle", 2.5), ("tap"
 
 
 LOOSE = lattice(2 * A, [(0.0, A), (0.0, A)], within=CORE - A, layers=LAYERS, quadrant=True)  # (each sphere twice)
+PAIRS_LATTICE = lattice(CELL, [(0.0, BIG), (APART, SMALL)])
 # (crowded: 20 spheres of 0.1 mm at one centre in the region, beside a sphere of A elsewhere)
 CROWD = (np.vstack([np.tile([0.0, 0.0, 0.02], (20, 1)), [[0.01, 0.0, 0.02]]]), np.array([1e-4] * 20 + [A]))
 
@@ -109,8 +110,7 @@ def make(name, interrupted=False, frame_times=(0.5, 1.5, 2.8, 3.0, 4.0, 5.5, END
     far = (np.array([[0.0, 0.0, 1.0]]), np.array([A]))  # (one sphere far above: the wrong frame reads 0)
     pvd = []
     for i, t in enumerate(frame_times):
-        pairs = CROWD if crowded else lattice(CELL, [(0.0, BIG), (APART, SMALL)])
-        points, radii = {loose_at: LOOSE, END: pairs}.get(t, far)
+        points, radii = {loose_at: LOOSE, END: CROWD if crowded else PAIRS_LATTICE}.get(t, far)
         vtu(os.path.join(run, "frames", f"particles_{i:05d}.vtu"), points, radii)
         pvd.append(f'<DataSet timestep="{t}" group="" part="0" file="particles_{i:05d}.vtu"/>')
     with open(os.path.join(run, "frames", "particles.pvd"), "w") as f:
@@ -183,7 +183,7 @@ for name, kw, args, words in (
          "no particle frame from the stage tapped_rest to the end"),
         ("tap-crowd", {"crowded": True}, (), "more than 16 element centres lie within 1.000 mm of a point"),
         ("tap-negative", {}, ("--margin=-1mm",), "expected radii above 0 and a margin of 0 or more"),
-        ("tap-unit", {"height": "40 furlongs"}, (), "height: cannot read '40 furlongs'"),
+        ("tap-unit", {"height": "40 furlongs"}, (), "height: cannot read the quantity '40 furlongs'"),
         ("tap-wide", {}, ("--core", "40mm"), "the core (40 mm) or the margins (10 mm) do not fit")):
     r = run(*args, make(name, **kw))
     if r.returncode == 0 or words not in r.stderr + r.stdout:
