@@ -145,14 +145,42 @@ resume_locked() {  # (run_or_resume, under the lock)
 # park_run DIR KEPT: DIR's checkpoint and time series up to it, xz-compressed, into KEPT, so
 # that the run can continue on another checkout (unpark_run). The checkpoint first: the series
 # only grows, so it covers the checkpoint even if the run writes a newer one in between (the
-# continued run cuts it back to the checkpoint's length).
+# continued run cuts it back to the checkpoint's length). With PARK_FRAME_BEFORE=STAGE also the
+# frame frame_before names, which the continued run would not write again.
 park_run() {
-  local dir="$1" kept="$2"
+  local dir="$1" kept="$2" frame
   mkdir -p "$kept"
   xz -T1 -c "$dir/checkpoint.bin" > "$kept/checkpoint.bin.xz.tmp"
   xz -T1 -c "$dir/timeseries.csv" > "$kept/timeseries.csv.xz.tmp"
   mv "$kept/checkpoint.bin.xz.tmp" "$kept/checkpoint.bin.xz"
   mv "$kept/timeseries.csv.xz.tmp" "$kept/timeseries.csv.xz"
+  rm -rf "$kept/frames"  # (one of an earlier park, or of a run since started again)
+  if [ -n "${PARK_FRAME_BEFORE:-}" ] && frame=$(frame_before "$dir" "$PARK_FRAME_BEFORE"); then
+    mkdir -p "$kept/frames"
+    xz -T1 -c "$dir/frames/$frame" > "$kept/frames/$frame.xz.tmp"
+    mv "$kept/frames/$frame.xz.tmp" "$kept/frames/$frame.xz"
+  fi
+}
+
+# frame_before DIR STAGE: the file name (in DIR/frames) of the last particle frame that DIR's run
+# wrote before its stage STAGE began (the time series' first row of STAGE), if the run has got
+# that far and the frame is there; else it fails. Set PARK_FRAME_BEFORE=STAGE and park_run keeps
+# that frame too, as a run continued from a parked checkpoint writes only the frames after it:
+# the state before STAGE (the tapped cylinder's loose fill before the taps, validation/tap_packing.py)
+# stays measurable.
+frame_before() {
+  local dir="$1" stage="$2" start f
+  start=$(awk -F, -v s="$stage" 'NR > 1 && $1 == s { print $2; exit }' "$dir/timeseries.csv" 2> /dev/null)
+  [ -n "$start" ] && [ -f "$dir/frames/particles.pvd" ] || return 1
+  # (the pvd's DataSet lines, timestep="T" ... file="F", in the order written; the last before the
+  # stage's start whose file is there)
+  for f in $(awk -v t0="$start" 'match($0, /timestep="[^"]*"/) {
+      t = substr($0, RSTART + 10, RLENGTH - 11)
+      if (t + 0 < t0 + 0 && match($0, /file="[^"]*"/)) print substr($0, RSTART + 6, RLENGTH - 7)
+    }' "$dir/frames/particles.pvd" | tac); do
+    if [ -f "$dir/frames/$f" ]; then echo "$f"; return 0; fi
+  done
+  return 1
 }
 
 # park_unfinished RUNS KEPT CASE...: park_run of each CASE (a folder in RUNS and in KEPT) that has
@@ -169,23 +197,32 @@ park_unfinished() {
 }
 
 # unpark_run LABEL DIR KEPT: a run with no checkpoint in DIR but one parked in KEPT continues
-# from that.
+# from that (with the frame parked beside it, if any).
 unpark_run() {
   local label="$1" dir="$2" kept="$3"
   if [ -f "$dir/checkpoint.bin" ] || [ ! -f "$kept/checkpoint.bin.xz" ]; then return; fi
   mkdir -p "$dir"
   xz -dc "$kept/timeseries.csv.xz" > "$dir/timeseries.csv"
+  local f name
+  for f in "$kept"/frames/*.xz; do  # (a frame park_run kept: PARK_FRAME_BEFORE)
+    [ -f "$f" ] || continue
+    name=$(basename "$f" .xz)
+    mkdir -p "$dir/frames"
+    xz -dc "$f" > "$dir/frames/$name.tmp"
+    mv "$dir/frames/$name.tmp" "$dir/frames/$name"
+  done
   xz -dc "$kept/checkpoint.bin.xz" > "$dir/checkpoint.bin.tmp"
-  mv "$dir/checkpoint.bin.tmp" "$dir/checkpoint.bin"
+  mv "$dir/checkpoint.bin.tmp" "$dir/checkpoint.bin"  # (last: a checkpoint in DIR means unparked)
   echo "$label: continuing from the checkpoint parked in $kept" >&2
 }
 
 # keep_run DIR KEPT: a finished (or failed) run's summary.json into KEPT (committed with the
-# results), and its parked checkpoint gone.
+# results), and its parked checkpoint and frame gone.
 keep_run() {
   local dir="$1" kept="$2"
   mkdir -p "$kept"
   cp "$dir/summary.json" "$kept/summary.json.tmp"
   mv "$kept/summary.json.tmp" "$kept/summary.json"
   rm -f "$kept/checkpoint.bin.xz" "$kept/timeseries.csv.xz"
+  rm -rf "$kept/frames"
 }

@@ -57,6 +57,10 @@ kept="$root/validation/results/study-runs"
 [[ "${1:-}" == --list || "${1:-}" == --validate ]] || mkdir -p "$runs" "$kept"
 source "$root/validation/resume.sh"
 ONE_BUILD=1
+# A tapped case parked in its taps keeps its loose fill's last frame (before the stage tap) with
+# its checkpoint: validation/tap_packing.py measures the loose state there, and a run continued
+# from the checkpoint writes only the frames after it.
+PARK_FRAME_BEFORE=tap
 
 # The calibrated parameter sets (docs/wheat.md). Single spheres: per pair of fractions; the
 # test weight's mixtures take all three pairs, a one-fraction sample the fraction's own.

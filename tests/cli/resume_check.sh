@@ -4,8 +4,8 @@
 # and keeps a finished one, and leaves a failed one alone; with ONE_BUILD=1 it starts again a
 # run whose checkpoint another engine build wrote, and leaves alone one whose build this clone
 # cannot compare (unless this build has uncommitted changes: then it never compares, and starts
-# again); park_run, unpark_run and keep_run carry a run to another checkout, and
-# run_case does all three under the run's lock.
+# again); park_run, unpark_run and keep_run carry a run to another checkout (with the frame
+# before a stage, PARK_FRAME_BEFORE), and run_case does all three under the run's lock.
 #   resume_check.sh BUSHEL SOURCE_DIR WORK_DIR
 set -euo pipefail
 bushel="$1" src="$2" work="$3"
@@ -102,6 +102,33 @@ unpark_run next "$work/moved" "$work/kept/next" 2> "$work/7.txt"
 grep -q "next: continuing from the checkpoint parked in" "$work/7.txt" || fail "no unpark message"
 cmp -s "$work/next/checkpoint.bin" "$work/moved/checkpoint.bin" || fail "the unparked checkpoint differs"
 cmp -s "$work/next/timeseries.csv" "$work/moved/timeseries.csv" || fail "the unparked time series differs"
+# PARK_FRAME_BEFORE=STAGE: the last particle frame written before STAGE began is parked with the
+# checkpoint and unparked beside it (a continued run writes only the frames after its checkpoint)
+run_or_resume late "$work/late" "$cup" --quiet --stop-at 30ms "${sets[@]}" --set parameters.frame_interval=3ms \
+  > /dev/null 2>&1 || fail "the run stopped in its settle stage failed"
+settle=$(awk -F, 'NR > 1 && $1 == "settle" { print $2; exit }' "$work/late/timeseries.csv")
+before=$(python3 - "$work/late/frames/particles.pvd" "$settle" <<'PY'
+import re, sys
+frames = re.findall(r'timestep="([^"]*)"[^>]*file="([^"]*)"', open(sys.argv[1]).read())
+print(max((float(t), f) for t, f in frames if float(t) < float(sys.argv[2]))[1])
+PY
+)
+[ "$(frame_before "$work/late" settle)" = "$before" ] ||
+  fail "frame_before gave '$(frame_before "$work/late" settle)', not '$before' (the last frame before $settle s)"
+! frame_before "$work/next" settle || fail "frame_before named a frame of a run that has not reached the stage"
+rm "$work/late/frames/$before"
+[ "$(frame_before "$work/late" settle)" != "$before" ] || fail "frame_before named a frame that is not there"
+cp "$work/run/frames/particles_00000.vtu" "$work/late/frames/$before"  # (back, with other bits)
+PARK_FRAME_BEFORE=settle park_unfinished "$work" "$work/kept" late 2> /dev/null
+[ "$(ls "$work/kept/late/frames")" = "$before.xz" ] || fail "the frame before settle was not parked: $(ls "$work/kept/late")"
+unpark_run late "$work/late-moved" "$work/kept/late" 2> /dev/null
+cmp -s "$work/late/frames/$before" "$work/late-moved/frames/$before" || fail "the unparked frame differs"
+park_unfinished "$work" "$work/kept" late 2> /dev/null
+[ ! -e "$work/kept/late/frames" ] || fail "a frame parked before stayed without PARK_FRAME_BEFORE"
+PARK_FRAME_BEFORE=settle park_unfinished "$work" "$work/kept" late 2> /dev/null
+run_or_resume late "$work/late" "$cup" --quiet > /dev/null 2>&1 || fail "the run with a parked frame did not finish"
+keep_run "$work/late" "$work/kept/late"
+[ ! -e "$work/kept/late/frames" ] || fail "keep_run left the parked frame"
 # a checkpoint that another engine build wrote (its commit changed in place): with ONE_BUILD=1
 # a build this clone cannot compare is left alone, one whose engine differs starts again
 LC_ALL=C sed -i 's/(commit [0-9a-f]\{12\}/(commit fffffffffff0/' "$work/moved/checkpoint.bin"
