@@ -154,9 +154,9 @@ park_run() {
   xz -T1 -c "$dir/timeseries.csv" > "$kept/timeseries.csv.xz.tmp"
   mv "$kept/checkpoint.bin.xz.tmp" "$kept/checkpoint.bin.xz"
   mv "$kept/timeseries.csv.xz.tmp" "$kept/timeseries.csv.xz"
-  rm -rf "$kept/frames"  # (one of an earlier park, or of a run since started again)
+  # (a frame parked before stays where DIR has none: DIR may have been continued without it)
   if [ -n "${PARK_FRAME_BEFORE:-}" ] && frame=$(frame_before "$dir" "$PARK_FRAME_BEFORE"); then
-    mkdir -p "$kept/frames"
+    rm -rf "$kept/frames" && mkdir -p "$kept/frames"
     xz -T1 -c "$dir/frames/$frame" > "$kept/frames/$frame.xz.tmp"
     mv "$kept/frames/$frame.xz.tmp" "$kept/frames/$frame.xz"
   fi

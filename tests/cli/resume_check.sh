@@ -123,9 +123,20 @@ PARK_FRAME_BEFORE=settle park_unfinished "$work" "$work/kept" late 2> /dev/null
 [ "$(ls "$work/kept/late/frames")" = "$before.xz" ] || fail "the frame before settle was not parked: $(ls "$work/kept/late")"
 unpark_run late "$work/late-moved" "$work/kept/late" 2> /dev/null
 cmp -s "$work/late/frames/$before" "$work/late-moved/frames/$before" || fail "the unparked frame differs"
-park_unfinished "$work" "$work/kept" late 2> /dev/null
-[ ! -e "$work/kept/late/frames" ] || fail "a frame parked before stayed without PARK_FRAME_BEFORE"
-PARK_FRAME_BEFORE=settle park_unfinished "$work" "$work/kept" late 2> /dev/null
+# a run continued without the frame (by a script from before PARK_FRAME_BEFORE) leaves the
+# parked one; a frame the run has replaces it
+rm "$work/late-moved/frames/$before"
+cp "$work/late/frames/particles.pvd" "$work/late-moved/frames/"  # (as the continued run writes it)
+PARK_FRAME_BEFORE=settle park_unfinished "$work" "$work/kept" late-moved 2> /dev/null
+mkdir -p "$work/kept/late-moved/frames" && cp "$work/kept/late/frames/$before.xz" "$work/kept/late-moved/frames/"
+PARK_FRAME_BEFORE=settle park_unfinished "$work" "$work/kept" late-moved 2> /dev/null
+cmp -s "$work/kept/late/frames/$before.xz" "$work/kept/late-moved/frames/$before.xz" ||
+  fail "a parked frame went where the run had none"
+echo another > "$work/late-moved/frames/$before"
+touch "$work/kept/late-moved/frames/particles_99999.vtu.xz"  # (of a run since started again)
+PARK_FRAME_BEFORE=settle park_unfinished "$work" "$work/kept" late-moved 2> /dev/null
+[ "$(ls "$work/kept/late-moved/frames")" = "$before.xz" ] &&
+  [ "$(xz -dc "$work/kept/late-moved/frames/$before.xz")" = another ] || fail "the run's frame did not replace the parked one"
 run_or_resume late "$work/late" "$cup" --quiet > /dev/null 2>&1 || fail "the run with a parked frame did not finish"
 keep_run "$work/late" "$work/kept/late"
 [ ! -e "$work/kept/late/frames" ] || fail "keep_run left the parked frame"
